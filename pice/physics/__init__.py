@@ -1,0 +1,1 @@
+"""Physical models: parameter derivation and the glue that calls the pure kernels."""

@@ -1,0 +1,87 @@
+"""Struct-of-arrays particle state.
+
+Particles carry a global id (``gid``) that never changes, so bonds and contact histories can
+refer to partners across ranks. Bonds are stored per particle in fixed slots: ``bond_gid`` holds
+the partner's gid (-1 when the slot is empty or the bond is broken), ``bond_j`` its local index
+(resolved from gids whenever the local ordering changes), ``bond_mate`` the slot that holds the
+same bond in the partner's list, ``bond_L0`` the rest length [m] and ``bond_hist`` the bond's
+history in the canonical orientation (lower gid first): shear force Fs [N] (0:3), twisting moment
+Mt [N m] (3), bending moment Mb [N m] (4:7), normal force Fn [N] (7, tension > 0). Both ends of a
+bond hold identical copies, updated with identical arithmetic.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+MAX_BONDS = 12     # HCP has at most 12 neighbours
+MAX_CONTACTS = 16  # unbonded contacts tracked per particle (tangential history)
+BOND_HIST = 8
+
+KIND_ICE = 0
+
+
+@dataclass
+class Particles:
+    """All per-particle arrays of one rank. The first ``nlocal`` entries are owned; the rest are ghosts."""
+
+    gid: np.ndarray                 # (n,) int64
+    x: np.ndarray                   # (n,3) position [m]
+    v: np.ndarray                   # (n,3) velocity [m/s]
+    w: np.ndarray                   # (n,3) angular velocity [rad/s]
+    radius: np.ndarray              # (n,) [m]
+    mass: np.ndarray                # (n,) [kg]
+    inertia: np.ndarray             # (n,) moment of inertia about the centre [kg m^2]
+    kind: np.ndarray                # (n,) int8
+    volume: np.ndarray              # (n,) volume the element stands for [m^3]
+    cell_area: np.ndarray           # (n,) waterplane footprint of a "cell" element [m^2] (0 for spheres)
+    half_height: np.ndarray         # (n,) half the height of a "cell" element [m] (radius for spheres)
+    bond_gid: np.ndarray            # (n,MAX_BONDS) int64
+    bond_j: np.ndarray              # (n,MAX_BONDS) int64
+    bond_mate: np.ndarray           # (n,MAX_BONDS) int64
+    bond_L0: np.ndarray             # (n,MAX_BONDS) [m]
+    bond_hist: np.ndarray           # (n,MAX_BONDS,BOND_HIST)
+    force: np.ndarray = field(default=None)     # (n,3) [N]
+    torque: np.ndarray = field(default=None)    # (n,3) [N m]
+    ext_force: np.ndarray = field(default=None)  # (n,3) constant applied load [N]
+    fix_mask: np.ndarray = field(default=None)   # (n,3) bool: velocity component prescribed
+    fix_velocity: np.ndarray = field(default=None)  # (n,3) prescribed velocity [m/s]
+    contact_gid: np.ndarray = field(default=None)   # (n,MAX_CONTACTS) int64
+    contact_stamp: np.ndarray = field(default=None)  # (n,MAX_CONTACTS) int64, step last touched
+    contact_hist: np.ndarray = field(default=None)  # (n,MAX_CONTACTS,3) tangential force [N]
+    wall_hist: np.ndarray = field(default=None)     # (n,n_walls,3) tangential force [N]
+    nlocal: int = 0
+
+    @property
+    def n(self) -> int:
+        return len(self.gid)
+
+    def allocate_dynamic(self, n_walls: int) -> None:
+        """Allocate force, constraint and contact-history arrays (zeroed)."""
+        n = self.n
+        self.force = np.zeros((n, 3))
+        self.torque = np.zeros((n, 3))
+        if self.ext_force is None:
+            self.ext_force = np.zeros((n, 3))
+        if self.fix_mask is None:
+            self.fix_mask = np.zeros((n, 3), dtype=np.bool_)
+            self.fix_velocity = np.zeros((n, 3))
+        self.contact_gid = np.full((n, MAX_CONTACTS), -1, dtype=np.int64)
+        self.contact_stamp = np.full((n, MAX_CONTACTS), -10, dtype=np.int64)
+        self.contact_hist = np.zeros((n, MAX_CONTACTS, 3))
+        self.wall_hist = np.zeros((n, max(n_walls, 1), 3))
+
+    def intact_bonds(self) -> np.ndarray:
+        """(m,2) int64 gid pairs of intact bonds among owned particles, each bond once (lower gid first)."""
+        loc = slice(0, self.nlocal)
+        g = self.gid[loc][:, None].repeat(MAX_BONDS, axis=1)
+        p = self.bond_gid[loc]
+        keep = (p >= 0) & (g < p)
+        return np.stack([g[keep], p[keep]], axis=1)
+
+    def bond_count(self) -> int:
+        """Number of intact bonds with at least one owned end, counted once per bond on this rank."""
+        loc = slice(0, self.nlocal)
+        return int(np.count_nonzero(self.bond_gid[loc] >= 0))
