@@ -76,6 +76,7 @@ class IceSpec(_Section):
     length: _q("m") = 20.0
     width: _q("m") = 10.0
     origin: Vec2 = (0.0, 0.0)
+    velocity: Vec2 = (0.0, 0.0)
     element_volume: Literal["sphere", "cell"] = "sphere"
     youngs_modulus: Optional[_q("Pa")] = None
     poissons_ratio: _q("", gt=None, ge=0.0, lt=0.5) = 0.3

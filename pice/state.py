@@ -82,6 +82,7 @@ class Particles:
         return np.stack([g[keep], p[keep]], axis=1)
 
     def bond_count(self) -> int:
-        """Number of intact bonds with at least one owned end, counted once per bond on this rank."""
+        """Intact bonds whose lower-gid end is owned here: summed over ranks, each bond counts once."""
         loc = slice(0, self.nlocal)
-        return int(np.count_nonzero(self.bond_gid[loc] >= 0))
+        partner = self.bond_gid[loc]
+        return int(np.count_nonzero((partner >= 0) & (partner > self.gid[loc][:, None])))

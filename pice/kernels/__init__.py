@@ -4,4 +4,4 @@
 plain Python (slow, but with Python tracebacks and coverage).
 """
 
-JIT = dict(nopython=True, cache=True, fastmath=False, error_model="numpy")
+JIT = dict(cache=True, fastmath=False, error_model="numpy")

@@ -1,0 +1,128 @@
+"""Contact of spheres with fixed rigid walls: infinite planes and triangles, with friction.
+
+geometry (n_walls, 9): plane = (point, unit normal, -); triangle = (v0, v1, v2)
+kinds (n_walls,): 0 plane, 1 triangle.  params (n_walls, 4): kn [N/m], kt [N/m], zeta, mu.
+A plane pushes along its normal on the side the normal points to (a half-space wall); a triangle
+pushes away from its closest point, on both sides.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import JIT
+
+
+@njit(**JIT)
+def closest_point_on_triangle(p, a, b, c, out):
+    """Closest point to p on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5)."""
+    ab = b - a
+    ac = c - a
+    ap = p - a
+    d1 = ab @ ap
+    d2 = ac @ ap
+    if d1 <= 0.0 and d2 <= 0.0:
+        out[:] = a
+        return
+    bp = p - b
+    d3 = ab @ bp
+    d4 = ac @ bp
+    if d3 >= 0.0 and d4 <= d3:
+        out[:] = b
+        return
+    vc = d1 * d4 - d3 * d2
+    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
+        out[:] = a + (d1 / (d1 - d3)) * ab
+        return
+    cp = p - c
+    d5 = ab @ cp
+    d6 = ac @ cp
+    if d6 >= 0.0 and d5 <= d6:
+        out[:] = c
+        return
+    vb = d5 * d2 - d1 * d6
+    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:
+        out[:] = a + (d2 / (d2 - d6)) * ac
+        return
+    va = d3 * d6 - d5 * d4
+    if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:
+        out[:] = b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b)
+        return
+    denom = 1.0 / (va + vb + vc)
+    out[:] = a + ab * (vb * denom) + ac * (vc * denom)
+
+
+@njit(**JIT)
+def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt, force, torque, wall_force):
+    """Add wall contact forces to owned particles; accumulate the reaction on each wall [N].
+
+    hist: (n, n_walls, 3) tangential force history per particle and wall, reset when contact ends.
+    Returns the elastic energy stored in wall contacts [J].
+    """
+    nw = kinds.shape[0]
+    p = np.empty(3)
+    q = np.empty(3)
+    n = np.empty(3)
+    energy = 0.0
+    for i in range(nlocal):
+        for k in range(3):
+            p[k] = x[i, k]
+        r = radius[i]
+        for wi in range(nw):
+            g = geometry[wi]
+            if kinds[wi] == 0:
+                dist = (p[0] - g[0]) * g[3] + (p[1] - g[1]) * g[4] + (p[2] - g[2]) * g[5]
+                if dist >= r:
+                    hist[i, wi, :] = 0.0
+                    continue
+                n[0], n[1], n[2] = g[3], g[4], g[5]
+            else:
+                closest_point_on_triangle(p, g[0:3], g[3:6], g[6:9], q)
+                d0, d1, d2 = p[0] - q[0], p[1] - q[1], p[2] - q[2]
+                dist = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+                if dist >= r or dist == 0.0:
+                    hist[i, wi, :] = 0.0
+                    continue
+                n[0], n[1], n[2] = d0 / dist, d1 / dist, d2 / dist
+            delta = r - dist
+            kn, kt, zeta, mu = params[wi, 0], params[wi, 1], params[wi, 2], params[wi, 3]
+            # velocity of the sphere's contact point
+            c0 = -r * n[0]
+            c1 = -r * n[1]
+            c2 = -r * n[2]
+            vc0 = v[i, 0] + w[i, 1] * c2 - w[i, 2] * c1
+            vc1 = v[i, 1] + w[i, 2] * c0 - w[i, 0] * c2
+            vc2 = v[i, 2] + w[i, 0] * c1 - w[i, 1] * c0
+            vn = vc0 * n[0] + vc1 * n[1] + vc2 * n[2]
+            fn = kn * delta - 2.0 * zeta * math.sqrt(mass[i] * kn) * vn
+            if fn < 0.0:
+                fn = 0.0
+            ft = hist[i, wi]
+            dn = ft[0] * n[0] + ft[1] * n[1] + ft[2] * n[2]
+            ft[0] -= dn * n[0] + kt * (vc0 - vn * n[0]) * dt
+            ft[1] -= dn * n[1] + kt * (vc1 - vn * n[1]) * dt
+            ft[2] -= dn * n[2] + kt * (vc2 - vn * n[2]) * dt
+            ftm = math.sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2])
+            if ftm > mu * fn:
+                s = mu * fn / ftm
+                ft[0] *= s
+                ft[1] *= s
+                ft[2] *= s
+                ftm = mu * fn
+            f0 = fn * n[0] + ft[0]
+            f1 = fn * n[1] + ft[1]
+            f2 = fn * n[2] + ft[2]
+            force[i, 0] += f0
+            force[i, 1] += f1
+            force[i, 2] += f2
+            torque[i, 0] += c1 * f2 - c2 * f1
+            torque[i, 1] += c2 * f0 - c0 * f2
+            torque[i, 2] += c0 * f1 - c1 * f0
+            wall_force[wi, 0] -= f0
+            wall_force[wi, 1] -= f1
+            wall_force[wi, 2] -= f2
+            energy += 0.5 * kn * delta * delta
+            if kt > 0.0:
+                energy += 0.5 * ftm * ftm / kt
+    return energy

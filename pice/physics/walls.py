@@ -1,0 +1,64 @@
+"""Fixed rigid walls from the job: planes, triangles and triangle meshes read with meshio."""
+
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+
+from ..errors import JobError
+from .contact import damping_ratio_from_restitution
+
+PLANE, TRIANGLE = 0, 1
+
+
+def build_walls(job, *, default_kn: float, base_dir: pathlib.Path | None = None):
+    """Arrays for the wall kernel: (kinds, geometry (n,9), params (n,4), names, owner index per wall).
+
+    A mesh wall expands into one triangle per mesh face; ``owner`` maps each triangle back to its
+    [[walls]] entry so forces are reported per entry.
+    """
+    kinds, geometry, params, owner = [], [], [], []
+    zeta = damping_ratio_from_restitution(job.contact.restitution)
+    names = []
+    for k, wall in enumerate(job.walls):
+        names.append(wall.name or f"wall{k}")
+        kn = wall.normal_stiffness if wall.normal_stiffness is not None else default_kn
+        row = [kn, job.contact.stiffness_ratio * kn, zeta, wall.friction]
+        if wall.type == "plane":
+            n = np.asarray(wall.normal, float)
+            geometry.append(np.concatenate([wall.point, n / np.linalg.norm(n), np.zeros(3)]))
+            kinds.append(PLANE)
+            params.append(row)
+            owner.append(k)
+            continue
+        if wall.type == "triangle":
+            tris = [np.asarray(wall.vertices, float)]
+        else:
+            tris = _read_mesh(base_dir or pathlib.Path("."), wall.file, job.source, k)
+        for tri in tris:
+            if np.linalg.norm(np.cross(tri[1] - tri[0], tri[2] - tri[0])) == 0.0:
+                raise JobError(f"{job.source}: walls[{k}] = {tri.tolist()}: degenerate triangle (zero area)")
+            geometry.append(tri.reshape(9))
+            kinds.append(TRIANGLE)
+            params.append(row)
+            owner.append(k)
+    if not kinds:
+        return (np.zeros(0, np.int64), np.zeros((0, 9)), np.zeros((0, 4)), names, np.zeros(0, np.int64))
+    return (np.asarray(kinds, np.int64), np.asarray(geometry, float), np.asarray(params, float), names,
+            np.asarray(owner, np.int64))
+
+
+def _read_mesh(base: pathlib.Path, file: str, source: str, k: int) -> list[np.ndarray]:
+    import meshio
+
+    try:
+        mesh = meshio.read(base / file)
+    except Exception as exc:  # meshio raises many types for unreadable files
+        raise JobError(f"{source}: walls[{k}].file = {file!r}: cannot read the mesh ({exc}); "
+                       "give an STL, OBJ, VTU or other meshio-readable triangle mesh") from None
+    tris = [mesh.points[c][:, :3].astype(float) for block in mesh.cells if block.type == "triangle"
+            for c in block.data]
+    if not tris:
+        raise JobError(f"{source}: walls[{k}].file = {file!r}: the mesh has no triangles")
+    return tris

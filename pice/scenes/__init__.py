@@ -1,0 +1,1 @@
+"""Scene builders: turn a validated job into particles (and, later, bodies and moorings)."""

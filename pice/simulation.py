@@ -1,0 +1,230 @@
+"""One rank's simulation: set-up from a job, the step (DESIGN.md "The step"), diagnostics.
+
+The step (velocity Verlet):
+    half kick with F(t);  drift x(t+dt);  forces F(t+dt) from bonds, contacts, walls, water;
+    half kick.  Bond and contact increments use the half-step velocities, i.e. the exact
+    displacement increment over the step.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import InstabilityError
+from .kernels.bonds import bond_energy, bond_forces
+from .kernels.contacts import contact_forces
+from .kernels.hydro import buoyancy_potential
+from .kernels.integrate import drift, kick, max_step_displacement
+from .kernels.walls import wall_forces
+from .kernels.hydro import hydro_forces
+from .physics.bond import bond_params_from_job
+from .physics.contact import contact_params
+from .physics.hydro import heave_damping, water_array
+from .physics.timestep import choose_step, stable_step
+from .physics.walls import build_walls
+from .scenes.level_ice import build_level_ice
+
+MAX_EVENTS = 100_000
+RUNAWAY_STEP_FRACTION = 0.05  # an element moving more than 5 % of its radius in one step has run away
+
+
+@dataclass
+class Counters:
+    """Running totals of one simulation."""
+
+    step: int = 0
+    time: float = 0.0
+    broken: int = 0
+    contacts: int = 0
+    contact_energy: float = 0.0
+    wall_energy: float = 0.0
+    events: list = field(default_factory=list)  # (step, time, gid_a, gid_b, mode)
+
+
+class Simulation:
+    """Particles, parameters and the time loop of one job on one rank."""
+
+    def __init__(self, job, *, base_dir=None):
+        self.job = job
+        self.p, self.sheet = build_level_ice(job)
+        p = self.p
+        m0, i0 = float(p.mass.min()), float(p.inertia.min())
+        self.bond = bond_params_from_job(job, n_layers=self.sheet.n_layers, spacing=self.sheet.spacing)
+        self.bond_params = self.bond.as_array(mass=m0, inertia=i0)
+        self.contact_params = contact_params(job, bond_kn=self.bond.kn)
+        kinds, geom, wparams, names, owner = build_walls(job, default_kn=self.contact_params[0], base_dir=base_dir)
+        self.wall_kinds, self.wall_geometry, self.wall_params = kinds, geom, wparams
+        self.wall_names, self.wall_owner = names, owner
+        self.wall_force = np.zeros((len(kinds), 3))
+        self.water = water_array(job)
+        self.gravity = job.gravity
+        p.allocate_dynamic(len(kinds))
+        self.heave_c = heave_damping(job, p)
+        self._apply_loads_and_fixes()
+        self.cell_size = 2.0 * float(p.radius.max()) * 1.0001
+        self.limit = self._time_step()
+        self.dt = self.limit.chosen
+        self.c = Counters()
+        self._events = np.zeros((MAX_EVENTS, 4), dtype=np.int64)
+        self.compute_forces()
+
+    # -- set-up -------------------------------------------------------------------------------
+    def _apply_loads_and_fixes(self) -> None:
+        p, job = self.p, self.job
+        x0 = p.x
+
+        def select(region):
+            sel = np.ones(p.n, bool)
+            for k, (lo, hi) in enumerate(((region.xmin, region.xmax), (region.ymin, region.ymax),
+                                          (region.zmin, region.zmax))):
+                sel &= (x0[:, k] >= lo) & (x0[:, k] <= hi)
+            return sel
+
+        from .errors import JobError
+
+        for k, load in enumerate(job.loads):
+            sel = select(load.region)
+            if not sel.any():
+                raise JobError(f"{job.source}: loads[{k}].region = {load.region.model_dump()}: selects no element")
+            p.ext_force[sel] += np.asarray(load.force) / np.count_nonzero(sel)
+        for k, fix in enumerate(job.fixes):
+            sel = select(fix.region)
+            if not sel.any():
+                raise JobError(f"{job.source}: fixes[{k}].region = {fix.region.model_dump()}: selects no element")
+            for d, comp in enumerate(fix.velocity):
+                if comp != "free":
+                    p.fix_mask[sel, d] = True
+                    p.fix_velocity[sel, d] = float(comp)
+        if job.ice.push is not None:
+            rows = job.ice.push.rows
+            xmin = x0[:, 0].min()
+            sel = x0[:, 0] < xmin + (rows - 1e-6) * self.sheet.spacing  # odd rows sit d/2 further in
+            p.fix_mask[sel, 0] = True
+            p.fix_velocity[sel, 0] = job.ice.push.speed
+            p.v[sel, 0] = job.ice.push.speed
+
+    def _time_step(self):
+        p, b = self.p, self.bond
+        bonded = 6 if self.sheet.n_layers == 1 else 12
+        springs = [("bond", b.kn, b.ks, max(b.kb, b.kt))]
+        if self.contact_params[0] > 0:
+            springs.append(("contact", self.contact_params[0], self.contact_params[1], 0.0))
+        kw = float(self.wall_params[:, 0].max()) if len(self.wall_params) else 0.0
+        i = int(np.argmin(p.mass))
+        zeta = max(b.damping_ratio, float(self.contact_params[2]))
+        stable, why = stable_step(mass=float(p.mass[i]), inertia=float(p.inertia[i]), radius=float(p.radius[i]),
+                                  coordination=bonded, springs=springs, wall_stiffness=kw, damping_ratio=zeta)
+        run = self.job.run
+        return choose_step(requested=run.dt, safety=run.dt_safety, stable=stable, governed_by=why,
+                           allow_unstable=run.allow_unstable_dt, source=self.job.source)
+
+    # -- the step ------------------------------------------------------------------------------
+    def compute_forces(self) -> None:
+        """Forces and torques at the current positions (half-step velocities for the rate terms)."""
+        p, c = self.p, self.c
+        p.force[:] = 0.0
+        p.torque[:] = 0.0
+        nb = bond_forces(p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.bond_j, p.bond_mate, p.bond_gid,
+                         p.bond_L0, p.bond_hist, self.bond_params, self.dt, p.force, p.torque,
+                         self._events, MAX_EVENTS)
+        if nb:
+            c.broken += nb
+            for a, b, mode, _ in self._events[:min(nb, MAX_EVENTS)]:
+                c.events.append((c.step, c.time, int(a), int(b), int(mode)))
+        c.contacts, c.contact_energy = contact_forces(
+            p.nlocal, p.n, p.gid, p.x, p.v, p.w, p.radius, p.mass, p.bond_j, p.contact_gid, p.contact_stamp,
+            p.contact_hist, self.contact_params, self.dt, c.step, self.cell_size, p.force, p.torque)
+        self.wall_force[:] = 0.0
+        if len(self.wall_kinds):
+            c.wall_energy = wall_forces(p.nlocal, p.x, p.v, p.w, p.radius, p.mass, self.wall_kinds,
+                                        self.wall_geometry, self.wall_params, p.wall_hist, self.dt,
+                                        p.force, p.torque, self.wall_force)
+        hydro_forces(p.nlocal, p.x, p.v, p.radius, p.mass, p.cell_area, p.half_height, self.gravity,
+                     self.water, self.heave_c, p.force)
+
+    def step(self) -> None:
+        p, dt = self.p, self.dt
+        half = 0.5 * dt
+        kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
+        drift(p.nlocal, p.x, p.v, dt)
+        self.c.step += 1
+        self.c.time = self.c.step * dt
+        self.compute_forces()
+        kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
+
+    def advance(self, nsteps: int) -> None:
+        """Take ``nsteps`` steps, checking for runaway motion every ``run.check_every`` steps."""
+        every = self.job.run.check_every
+        for k in range(nsteps):
+            self.step()
+            if (k + 1) % every == 0 or k == nsteps - 1:
+                self.check_health()
+
+    def check_health(self) -> None:
+        """Raise InstabilityError naming the step, the element and the likely cause on NaN or runaway."""
+        p = self.p
+        ratio, i, nonfinite = max_step_displacement(p.nlocal, p.v, p.w, p.radius, self.dt)
+        if not nonfinite and ratio <= RUNAWAY_STEP_FRACTION:
+            return
+        what = "a non-finite velocity (NaN/inf)" if nonfinite else \
+            f"a displacement of {ratio:.3g} radii in one step"
+        if self.dt > self.limit.stable:
+            cause = (f"run.dt = {self.dt:.4g} s is above the stability limit {self.limit.stable:.4g} s "
+                     f"({self.limit.governed_by}); use dt = \"auto\"")
+        else:
+            cause = ("a force spike: overlapping elements in the initial geometry, a load too large for "
+                     "the elements, or a wall/contact stiffness far above the bond stiffness")
+        raise InstabilityError(
+            f"unstable at step {self.c.step} (t = {self.c.time:.6g} s): element gid {int(p.gid[i])} at "
+            f"{np.array2string(p.x[i], precision=3)} m shows {what}; likely cause: {cause}")
+
+    # -- diagnostics ---------------------------------------------------------------------------
+    def energies(self) -> dict[str, float]:
+        """Energy budget [J] of the owned particles."""
+        p, n = self.p, self.p.nlocal
+        ke = 0.5 * float(np.sum(p.mass[:n] * np.einsum("ij,ij->i", p.v[:n], p.v[:n])))
+        kr = 0.5 * float(np.sum(p.inertia[:n] * np.einsum("ij,ij->i", p.w[:n], p.w[:n])))
+        pg = float(np.sum(p.mass[:n] * self.gravity * p.x[:n, 2]))
+        pb = 0.0
+        if self.water[0] > 0:
+            level, rho = self.water[1], self.water[2]
+            pb = float(sum(buoyancy_potential(p.x[i, 2], p.radius[i], p.cell_area[i], p.half_height[i],
+                                              level, rho, self.gravity) for i in range(n)))
+        eb = bond_energy(n, p.gid, p.bond_gid, p.bond_hist, self.bond_params)
+        total = ke + kr + pg + pb + eb + self.c.contact_energy + self.c.wall_energy
+        return dict(kinetic_energy=ke, rotational_energy=kr, gravity_energy=pg, buoyancy_energy=pb,
+                    bond_energy=eb, contact_energy=self.c.contact_energy, wall_energy=self.c.wall_energy,
+                    total_energy=total)
+
+    def wall_loads(self) -> np.ndarray:
+        """(n_wall_entries, 3) force of the ice on each [[walls]] entry [N]."""
+        out = np.zeros((len(self.job.walls), 3))
+        if len(self.wall_owner):
+            np.add.at(out, self.wall_owner, self.wall_force)
+        return out
+
+    def series_row(self) -> dict[str, np.ndarray | float]:
+        row = dict(time=self.c.time, step=float(self.c.step), bonds=float(self.p.bond_count()),
+                   broken_bonds=float(self.c.broken), contacts=float(self.c.contacts))
+        row.update(self.energies())
+        row["wall_force"] = self.wall_loads()
+        return row
+
+    def describe(self) -> dict:
+        """Facts for `pice check` and the run file's attributes."""
+        p = self.p
+        nbytes = sum(a.nbytes for a in vars(p).values() if isinstance(a, np.ndarray))
+        return dict(elements=p.n, bonds=p.bond_count(), layers=self.sheet.n_layers,
+                    thickness_modelled=self.sheet.actual_thickness, memory_bytes=nbytes,
+                    dt_stable=self.limit.stable, dt=self.dt, dt_safety=self.limit.safety,
+                    dt_governed_by=self.limit.governed_by, steps_per_second=1.0 / self.dt,
+                    bond_kn=self.bond.kn, bond_ks=self.bond.ks, bond_kb=self.bond.kb, bond_kt=self.bond.kt,
+                    normal_strength=self.bond.normal_strength, shear_strength=self.bond.shear_strength,
+                    bond_friction=self.bond.friction, element_mass=float(p.mass[0]))
+
+    @property
+    def total_steps(self) -> int:
+        return int(math.ceil(self.job.run.duration / self.dt - 1e-9))
