@@ -64,6 +64,7 @@ class Simulation:
         p.allocate_dynamic(len(kinds))
         self.heave_c = heave_damping(job, p)
         self._apply_loads_and_fixes()
+        self._refuse_initial_wall_overlap()
         self.cell_size = 2.0 * float(p.radius.max()) * 1.0001
         self.limit = self._time_step()
         self.dt = self.limit.chosen
@@ -85,15 +86,22 @@ class Simulation:
 
         from .errors import JobError
 
+        def selects_nothing(key, region):
+            given = ", ".join(f"{b} = {v}" for b, v in region.model_dump(exclude_defaults=True).items())
+            lo, hi = x0.min(axis=0), x0.max(axis=0)
+            span = ", ".join(f"{a} {lo[d]:.4g} .. {hi[d]:.4g}" for d, a in enumerate("xyz"))
+            return JobError(f"{job.source}: {key} = {{{given}}}: selects no element; the box must contain some "
+                            f"initial element centres, which span {span} m")
+
         for k, load in enumerate(job.loads):
             sel = select(load.region)
             if not sel.any():
-                raise JobError(f"{job.source}: loads[{k}].region = {load.region.model_dump()}: selects no element")
+                raise selects_nothing(f"loads[{k}].region", load.region)
             p.ext_force[sel] += np.asarray(load.force) / np.count_nonzero(sel)
         for k, fix in enumerate(job.fixes):
             sel = select(fix.region)
             if not sel.any():
-                raise JobError(f"{job.source}: fixes[{k}].region = {fix.region.model_dump()}: selects no element")
+                raise selects_nothing(f"fixes[{k}].region", fix.region)
             for d, comp in enumerate(fix.velocity):
                 if comp != "free":
                     p.fix_mask[sel, d] = True
@@ -105,6 +113,25 @@ class Simulation:
             p.fix_mask[sel, 0] = True
             p.fix_velocity[sel, 0] = job.ice.push.speed
             p.v[sel, 0] = job.ice.push.speed
+
+    def _refuse_initial_wall_overlap(self) -> None:
+        """A wall that cuts into the ice at t = 0 would fire elements off: refuse it with the fix."""
+        from .errors import JobError
+
+        if not len(self.wall_kinds):
+            return
+        p = self.p
+        f, t, wf = np.zeros((p.n, 3)), np.zeros((p.n, 3)), np.zeros((len(self.wall_kinds), 3))
+        params = self.wall_params.copy()
+        params[:, 1:] = 0.0  # elastic normal force only
+        wall_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, self.wall_kinds,
+                    self.wall_geometry, params, np.zeros_like(p.wall_hist), 0.0, f, t, wf)
+        hit = np.nonzero(np.abs(wf).sum(axis=1) > 0)[0]
+        if len(hit):
+            k = int(self.wall_owner[hit[0]])
+            n_el = int(np.count_nonzero(np.abs(f).sum(axis=1) > 0))
+            raise JobError(f"{self.job.source}: walls[{k}] ({self.wall_names[k]}): overlaps {n_el} ice "
+                           "element(s) at t = 0; move the wall clear of the sheet (or the sheet's origin)")
 
     def _time_step(self):
         p, b = self.p, self.bond

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-MAX_BONDS = 12     # HCP has at most 12 neighbours
+MAX_BONDS = 12     # HCP has at most 12 neighbours (a single layer 6: arrays are sized to the lattice)
 MAX_CONTACTS = 16  # unbonded contacts tracked per particle (tangential history)
 BOND_HIST = 8
 
@@ -39,8 +39,8 @@ class Particles:
     cell_area: np.ndarray           # (n,) waterplane footprint of a "cell" element [m^2] (0 for spheres)
     half_height: np.ndarray         # (n,) half the height of a "cell" element [m] (radius for spheres)
     bond_gid: np.ndarray            # (n,MAX_BONDS) int64
-    bond_j: np.ndarray              # (n,MAX_BONDS) int64
-    bond_mate: np.ndarray           # (n,MAX_BONDS) int64
+    bond_j: np.ndarray              # (n,slots) int32 local index
+    bond_mate: np.ndarray           # (n,slots) int32
     bond_L0: np.ndarray             # (n,MAX_BONDS) [m]
     bond_hist: np.ndarray           # (n,MAX_BONDS,BOND_HIST)
     force: np.ndarray = field(default=None)     # (n,3) [N]
@@ -76,7 +76,7 @@ class Particles:
     def intact_bonds(self) -> np.ndarray:
         """(m,2) int64 gid pairs of intact bonds among owned particles, each bond once (lower gid first)."""
         loc = slice(0, self.nlocal)
-        g = self.gid[loc][:, None].repeat(MAX_BONDS, axis=1)
+        g = self.gid[loc][:, None].repeat(self.bond_gid.shape[1], axis=1)
         p = self.bond_gid[loc]
         keep = (p >= 0) & (g < p)
         return np.stack([g[keep], p[keep]], axis=1)

@@ -18,22 +18,20 @@ from numba import njit
 from . import JIT
 
 
-@njit(**JIT)
-def _project_keep_magnitude(vec, n):
-    """Remove the component of ``vec`` along unit ``n`` and restore its length (rotates history)."""
-    mag2 = vec[0] * vec[0] + vec[1] * vec[1] + vec[2] * vec[2]
+@njit(**JIT, inline="always")
+def _project_keep_magnitude(h, i, s, o, n0, n1, n2):
+    """Remove the component of h[i, s, o:o+3] along unit n and restore its length (rotates history)."""
+    a0, a1, a2 = h[i, s, o], h[i, s, o + 1], h[i, s, o + 2]
+    mag2 = a0 * a0 + a1 * a1 + a2 * a2
     if mag2 == 0.0:
         return
-    d = vec[0] * n[0] + vec[1] * n[1] + vec[2] * n[2]
-    vec[0] -= d * n[0]
-    vec[1] -= d * n[1]
-    vec[2] -= d * n[2]
-    new2 = vec[0] * vec[0] + vec[1] * vec[1] + vec[2] * vec[2]
-    if new2 > 0.0:
-        s = math.sqrt(mag2 / new2)
-        vec[0] *= s
-        vec[1] *= s
-        vec[2] *= s
+    d = a0 * n0 + a1 * n1 + a2 * n2
+    a0 -= d * n0
+    a1 -= d * n1
+    a2 -= d * n2
+    new2 = a0 * a0 + a1 * a1 + a2 * a2
+    sc = math.sqrt(mag2 / new2) if new2 > 0.0 else 0.0
+    h[i, s, o], h[i, s, o + 1], h[i, s, o + 2] = a0 * sc, a1 * sc, a2 * sc
 
 
 @njit(**JIT)
@@ -49,73 +47,74 @@ def bond_update(a, b, x, v, w, radius, L0, hist, params, dt, out_force, out_mome
     Returns:
         0 intact, 1 broken in tension/bending (Eq. 3), 2 broken in shear/twist (Eqs. 4-5).
     """
+    h3 = hist.reshape((1, 1, hist.shape[0]))
+    r = _bond_core(a, b, x, v, w, radius, L0, h3, 0, 0, params, dt)
+    for k in range(3):
+        out_force[k] = r[1 + k]
+        out_moment_a[k] = r[4 + k]
+        out_moment_b[k] = r[7 + k]
+    return r[0]
+
+
+@njit(**JIT, inline="always")
+def _bond_core(a, b, x, v, w, radius, L0, H, i, s, params, dt):
+    """bond_update on H[i, s, :], returning (mode, force on a (3), moment on a (3), moment on b (3))."""
     kn, ks, kt, kb = params[0], params[1], params[2], params[3]
     A, I, J, R = params[4], params[5], params[6], params[7]
     dx0 = x[b, 0] - x[a, 0]
     dx1 = x[b, 1] - x[a, 1]
     dx2 = x[b, 2] - x[a, 2]
     L = math.sqrt(dx0 * dx0 + dx1 * dx1 + dx2 * dx2)
-    n = np.empty(3)
-    n[0] = dx0 / L
-    n[1] = dx1 / L
-    n[2] = dx2 / L
+    n0, n1, n2 = dx0 / L, dx1 / L, dx2 / L
     ca = radius[a] + 0.5 * (L - radius[a] - radius[b])  # centre of a -> contact point [m]
     cb = L - ca
+    wa0, wa1, wa2 = w[a, 0], w[a, 1], w[a, 2]
+    wb0, wb1, wb2 = w[b, 0], w[b, 1], w[b, 2]
     # velocity of the contact point carried by b minus that carried by a
-    vr = np.empty(3)
-    vr[0] = (v[b, 0] - cb * (w[b, 1] * n[2] - w[b, 2] * n[1])) - (v[a, 0] + ca * (w[a, 1] * n[2] - w[a, 2] * n[1]))
-    vr[1] = (v[b, 1] - cb * (w[b, 2] * n[0] - w[b, 0] * n[2])) - (v[a, 1] + ca * (w[a, 2] * n[0] - w[a, 0] * n[2]))
-    vr[2] = (v[b, 2] - cb * (w[b, 0] * n[1] - w[b, 1] * n[0])) - (v[a, 2] + ca * (w[a, 0] * n[1] - w[a, 1] * n[0]))
-    vn = vr[0] * n[0] + vr[1] * n[1] + vr[2] * n[2]
-    wr0 = w[b, 0] - w[a, 0]
-    wr1 = w[b, 1] - w[a, 1]
-    wr2 = w[b, 2] - w[a, 2]
-    wn = wr0 * n[0] + wr1 * n[1] + wr2 * n[2]
-    vs = np.empty(3)
-    ws = np.empty(3)
-    for k in range(3):
-        vs[k] = vr[k] - vn * n[k]
-    ws[0] = wr0 - wn * n[0]
-    ws[1] = wr1 - wn * n[1]
-    ws[2] = wr2 - wn * n[2]
-    fs = hist[0:3]
-    mb = hist[4:7]
-    _project_keep_magnitude(fs, n)
-    _project_keep_magnitude(mb, n)
+    vr0 = (v[b, 0] - cb * (wb1 * n2 - wb2 * n1)) - (v[a, 0] + ca * (wa1 * n2 - wa2 * n1))
+    vr1 = (v[b, 1] - cb * (wb2 * n0 - wb0 * n2)) - (v[a, 1] + ca * (wa2 * n0 - wa0 * n2))
+    vr2 = (v[b, 2] - cb * (wb0 * n1 - wb1 * n0)) - (v[a, 2] + ca * (wa0 * n1 - wa1 * n0))
+    vn = vr0 * n0 + vr1 * n1 + vr2 * n2
+    vs0, vs1, vs2 = vr0 - vn * n0, vr1 - vn * n1, vr2 - vn * n2
+    wr0, wr1, wr2 = wb0 - wa0, wb1 - wa1, wb2 - wa2
+    wn = wr0 * n0 + wr1 * n1 + wr2 * n2
+    ws0, ws1, ws2 = wr0 - wn * n0, wr1 - wn * n1, wr2 - wn * n2
+    _project_keep_magnitude(H, i, s, 0, n0, n1, n2)
+    _project_keep_magnitude(H, i, s, 4, n0, n1, n2)
     # Eqs. 1-2: incremental shear force, twisting and bending moments on a
-    for k in range(3):
-        fs[k] += ks * vs[k] * dt
-        mb[k] += kb * ws[k] * dt
-    hist[3] += kt * wn * dt
+    fs0 = H[i, s, 0] + ks * vs0 * dt
+    fs1 = H[i, s, 1] + ks * vs1 * dt
+    fs2 = H[i, s, 2] + ks * vs2 * dt
+    mt = H[i, s, 3] + kt * wn * dt
+    mb0 = H[i, s, 4] + kb * ws0 * dt
+    mb1 = H[i, s, 5] + kb * ws1 * dt
+    mb2 = H[i, s, 6] + kb * ws2 * dt
     tension = kn * (L - L0)  # normal force, the integral of Eq. 1 [N]
-    hist[7] = tension
-    mt = hist[3]
-    fs_mag = math.sqrt(fs[0] * fs[0] + fs[1] * fs[1] + fs[2] * fs[2])
-    mb_mag = math.sqrt(mb[0] * mb[0] + mb[1] * mb[1] + mb[2] * mb[2])
+    H[i, s, 0], H[i, s, 1], H[i, s, 2], H[i, s, 3] = fs0, fs1, fs2, mt
+    H[i, s, 4], H[i, s, 5], H[i, s, 6], H[i, s, 7] = mb0, mb1, mb2, tension
+    fs_mag = math.sqrt(fs0 * fs0 + fs1 * fs1 + fs2 * fs2)
+    mb_mag = math.sqrt(mb0 * mb0 + mb1 * mb1 + mb2 * mb2)
     sigma = tension / A + mb_mag * R / I          # Eq. 3, tension positive [Pa]
     tau = fs_mag / A + abs(mt) * R / J            # Eq. 4 [Pa]
     if sigma >= params[8]:
-        return 1
+        return (1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     if tau >= params[10] * sigma + params[9]:     # Eq. 5
-        return 2
+        return (2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     cn, cs, ct, cbd = params[11], params[12], params[13], params[14]
-    for k in range(3):
-        out_force[k] = (tension + cn * vn) * n[k] + fs[k] + cs * vs[k]
-    # moment of the force about each centre, plus the bond's own moments
-    fa0, fa1, fa2 = out_force[0], out_force[1], out_force[2]
-    ax, ay, az = ca * n[0], ca * n[1], ca * n[2]
-    bx, by, bz = cb * n[0], cb * n[1], cb * n[2]
-    for k in range(3):
-        own = (mt + ct * wn) * n[k] + mb[k] + cbd * ws[k]
-        out_moment_a[k] = own
-        out_moment_b[k] = -own
-    out_moment_a[0] += ay * fa2 - az * fa1
-    out_moment_a[1] += az * fa0 - ax * fa2
-    out_moment_a[2] += ax * fa1 - ay * fa0
-    out_moment_b[0] += by * fa2 - bz * fa1
-    out_moment_b[1] += bz * fa0 - bx * fa2
-    out_moment_b[2] += bx * fa1 - by * fa0
-    return 0
+    fn = tension + cn * vn
+    fa0 = fn * n0 + fs0 + cs * vs0
+    fa1 = fn * n1 + fs1 + cs * vs1
+    fa2 = fn * n2 + fs2 + cs * vs2
+    # the bond's own moments on a, plus the moment of the force about each centre
+    mtot = mt + ct * wn
+    own0 = mtot * n0 + mb0 + cbd * ws0
+    own1 = mtot * n1 + mb1 + cbd * ws1
+    own2 = mtot * n2 + mb2 + cbd * ws2
+    c0 = n1 * fa2 - n2 * fa1
+    c1 = n2 * fa0 - n0 * fa2
+    c2 = n0 * fa1 - n1 * fa0
+    return (0, fa0, fa1, fa2, own0 + ca * c0, own1 + ca * c1, own2 + ca * c2,
+            -own0 + cb * c0, -own1 + cb * c1, -own2 + cb * c2)
 
 
 @njit(**JIT)
@@ -130,9 +129,6 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
         Number of bonds broken in this call (counted once per bond on this rank).
     """
     nslots = bond_j.shape[1]
-    f = np.zeros(3)
-    ma = np.zeros(3)
-    mb = np.zeros(3)
     nbroken = 0
     for i in range(nlocal):
         for s in range(nslots):
@@ -145,9 +141,8 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
             i_is_a = gid[i] < gid[j]
             a = i if i_is_a else j
             b = j if i_is_a else i
-            h = bond_hist[i, s]
-            mode = bond_update(a, b, x, v, w, radius, bond_L0[i, s], h, params, dt, f, ma, mb)
-            if mode != 0:
+            r = _bond_core(a, b, x, v, w, radius, bond_L0[i, s], bond_hist, i, s, params, dt)
+            if r[0] != 0:
                 bond_j[i, s] = -1
                 bond_gid[i, s] = -1
                 if j_owned:
@@ -158,21 +153,33 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
                     if nbroken < max_events:
                         events[nbroken, 0] = gid[a]
                         events[nbroken, 1] = gid[b]
-                        events[nbroken, 2] = mode
+                        events[nbroken, 2] = r[0]
                         events[nbroken, 3] = 0
                     nbroken += 1
                 continue
             sign = 1.0 if i_is_a else -1.0
-            mi = ma if i_is_a else mb
-            mj = mb if i_is_a else ma
-            for k in range(3):
-                force[i, k] += sign * f[k]
-                torque[i, k] += mi[k]
-            if j_owned:
-                bond_hist[j, bond_mate[i, s]][:] = h
-                for k in range(3):
-                    force[j, k] -= sign * f[k]
-                    torque[j, k] += mj[k]
+            f0, f1, f2 = sign * r[1], sign * r[2], sign * r[3]
+            force[i, 0] += f0
+            force[i, 1] += f1
+            force[i, 2] += f2
+            if i_is_a:
+                torque[i, 0] += r[4]
+                torque[i, 1] += r[5]
+                torque[i, 2] += r[6]
+            else:
+                torque[i, 0] += r[7]
+                torque[i, 1] += r[8]
+                torque[i, 2] += r[9]
+            if j_owned:  # i is a: write b's copy of the history and its force
+                m = bond_mate[i, s]
+                for k in range(8):
+                    bond_hist[j, m, k] = bond_hist[i, s, k]
+                force[j, 0] -= f0
+                force[j, 1] -= f1
+                force[j, 2] -= f2
+                torque[j, 0] += r[7]
+                torque[j, 1] += r[8]
+                torque[j, 2] += r[9]
     return nbroken
 
 

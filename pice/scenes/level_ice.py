@@ -104,15 +104,16 @@ def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
             x[:, 2] += job.water.level - draft
     v = np.zeros((n, 3))
     v[:, 0], v[:, 1] = ice.velocity
+    slots = 6 if n_layers == 1 else MAX_BONDS  # bonds per element in the lattice: memory follows it
     p = Particles(
         gid=np.arange(n, dtype=np.int64), x=x, v=v, w=np.zeros((n, 3)),
         radius=np.full(n, r), mass=np.full(n, mass), inertia=np.full(n, inertia),
         kind=np.full(n, KIND_ICE, dtype=np.int8), volume=np.full(n, volume),
         cell_area=area_arr, half_height=half,
-        bond_gid=np.full((n, MAX_BONDS), -1, dtype=np.int64),
-        bond_j=np.full((n, MAX_BONDS), -1, dtype=np.int64),
-        bond_mate=np.full((n, MAX_BONDS), -1, dtype=np.int64),
-        bond_L0=np.zeros((n, MAX_BONDS)), bond_hist=np.zeros((n, MAX_BONDS, BOND_HIST)), nlocal=n)
+        bond_gid=np.full((n, slots), -1, dtype=np.int64),
+        bond_j=np.full((n, slots), -1, dtype=np.int32),
+        bond_mate=np.full((n, slots), -1, dtype=np.int32),
+        bond_L0=np.zeros((n, slots)), bond_hist=np.zeros((n, slots, BOND_HIST)), nlocal=n)
     pairs = cKDTree(x).query_pairs(d * (1.0 + 1e-6), output_type="ndarray")
     add_bonds(p, pairs)
     geo = SheetGeometry(n_layers=n_layers, spacing=d, cell_area=cell_area, layer_height=layer_height,
@@ -123,10 +124,11 @@ def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
 def add_bonds(p: Particles, pairs: np.ndarray) -> None:
     """Bond the (i, j) local-index pairs at their current distance (the rest length)."""
     nslot = np.count_nonzero(p.bond_j >= 0, axis=1)
+    cap = p.bond_j.shape[1]
     for i, j in pairs:
         si, sj = nslot[i], nslot[j]
-        if si >= MAX_BONDS or sj >= MAX_BONDS:
-            raise ValueError(f"element {p.gid[i]} or {p.gid[j]} has more than {MAX_BONDS} bonds")
+        if si >= cap or sj >= cap:
+            raise ValueError(f"element {p.gid[i]} or {p.gid[j]} has more than {cap} bonds")
         L0 = float(np.linalg.norm(p.x[j] - p.x[i]))
         p.bond_j[i, si], p.bond_j[j, sj] = j, i
         p.bond_gid[i, si], p.bond_gid[j, sj] = p.gid[j], p.gid[i]

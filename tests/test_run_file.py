@@ -1,0 +1,76 @@
+"""`pice run`: the HDF5 run file holds the job, a time series, snapshots and the broken-bond log."""
+
+import h5py
+import numpy as np
+import pytest
+
+from pice.cli import main
+
+JOB = """
+[run]
+duration = 0.1
+series_every = 2
+snapshots = 3
+[water]
+density = 1035.0
+current = [1.0, 0.0]
+[ice]
+length = 6.0
+width = 4.0
+velocity = [1.0, 0.0]
+[bond]
+normal_stiffness = 1.72e7
+normal_strength = 1.5e6
+friction = 0.3
+[[walls]]
+name = "slope"
+type = "plane"
+point = [6.53, 0.0, 0.0]  # clear of the sheet at t = 0, touched within 0.05 s
+normal = [-0.7071068, 0.0, 0.7071068]
+"""
+
+
+def test_run_writes_series_snapshots_and_attributes(tmp_path, capsys):
+    job = tmp_path / "tiny.toml"
+    job.write_text(JOB)
+    out = tmp_path / "tiny.h5"
+    assert main(["run", str(job), "-o", str(out)]) == 0
+    with h5py.File(out) as f:
+        assert f.attrs["status"] == "finished"
+        assert "duration = 0.1" in f.attrs["job_text"]
+        assert f.attrs["ranks"] == 1
+        s = f["series"]
+        n = len(s["time"])
+        dt = f.attrs["dt"]
+        steps = int(np.ceil(0.1 / dt - 1e-9))
+        assert n == 1 + int(np.ceil(steps / 2))  # t = 0, every 2 steps, and the last step
+        for key in ("kinetic_energy", "bonds", "broken_bonds", "total_energy"):
+            assert s[key].shape == (n,)
+        assert s["wall_force"].shape == (n, 1, 3)
+        assert np.all(np.isfinite(s["total_energy"][:]))
+        # the sheet reaches the slope: the wall is pushed along +x and down (the ice rides up),
+        # inside the Coulomb cone of the wall friction 0.1: on a 45-degree slope with normal
+        # (-1, 0, 1)/sqrt(2), |F_tangential| = |Fx + Fz|/sqrt(2) <= 0.1 |F_normal| = 0.1 |Fx - Fz|/sqrt(2)
+        fw = s["wall_force"][:, 0, :]
+        k = int(np.argmax(fw[:, 0]))
+        assert fw[k, 0] > 0 and fw[k, 2] < 0
+        assert abs(fw[k, 0] + fw[k, 2]) <= 0.1 * abs(fw[k, 0] - fw[k, 2]) * (1 + 1e-6)
+        snaps = sorted(f["snapshots"])
+        assert len(snaps) == 3
+        last = f["snapshots"][snaps[-1]]
+        assert np.all(np.diff(last["gid"][:]) > 0)  # sorted by gid
+        assert last["x"].shape == (len(last["gid"]), 3)
+        bonds = last["bonds"][:]
+        assert bonds.shape[1] == 2 and np.all(bonds[:, 0] < bonds[:, 1])
+        assert len(bonds) == s["bonds"][-1]
+    assert "wrote" in capsys.readouterr().out
+
+
+def test_existing_run_file_is_not_replaced_without_overwrite(tmp_path, capsys):
+    job = tmp_path / "tiny.toml"
+    job.write_text(JOB)
+    out = tmp_path / "tiny.h5"
+    out.write_bytes(b"precious")
+    assert main(["run", str(job), "-o", str(out)]) == 4
+    assert out.read_bytes() == b"precious"
+    assert "--overwrite" in capsys.readouterr().err
