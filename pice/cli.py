@@ -14,9 +14,10 @@ def _cmd_run(args) -> int:
     job = load_job(args.job)
     out = args.output or job.run.output or str(pathlib.Path("runs") / (pathlib.Path(args.job).stem + ".h5"))
     summary = run_job(job, output=out, overwrite=args.overwrite, base_dir=pathlib.Path(args.job).parent)
-    print(f"pice: wrote {summary['output']}: {summary['steps']} steps to t = {summary['time']:.4g} s in "
-          f"{summary['wall_time']:.1f} s wall ({summary['particle_steps_per_second']:.3g} particle-steps/s), "
-          f"{summary['broken_bonds']} broken bonds")
+    if summary["rank"] == 0:
+        print(f"pice: wrote {summary['output']}: {summary['steps']} steps to t = {summary['time']:.4g} s in "
+              f"{summary['wall_time']:.1f} s wall ({summary['particle_steps_per_second']:.3g} particle-steps/s), "
+              f"{summary['broken_bonds']} broken bonds, {summary['ranks']} rank(s)")
     return 0
 
 

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import math
 import pathlib
-from typing import Annotated, Any, Literal, Optional, Union
+from typing import Annotated, Any, Literal, Optional, Union, get_args, get_origin
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, Strict, StrictBool, ValidationError, model_validator
 
 from .errors import JobError
 
@@ -22,13 +22,29 @@ except ModuleNotFoundError:  # pragma: no cover
 
 
 def _q(unit: str, gt: float | None = 0.0, ge: float | None = None, le: float | None = None, lt: float | None = None):
-    """A float quantity with a unit (shown in error messages) and bounds."""
+    """A float quantity with a unit (shown in error messages) and bounds.
+
+    Strict: a TOML integer or float is accepted, a string or boolean is not (``"1.0"`` is a typo,
+    not a number).
+    """
     kw = {k: v for k, v in dict(gt=gt, ge=ge, le=le, lt=lt).items() if v is not None}
-    return Annotated[float, Field(json_schema_extra={"unit": unit}, allow_inf_nan=False, **kw)]
+    return Annotated[float, Strict(), Field(json_schema_extra={"unit": unit}, allow_inf_nan=False, **kw)]
 
 
-Vec2 = tuple[float, float]
-Vec3 = tuple[float, float, float]
+def _count(ge: int):
+    """A whole number >= ``ge`` (strict: 2.5, 2.0, "2" and true are refused)."""
+    return Annotated[int, Strict(), Field(ge=ge)]
+
+
+def _vec(vec, unit: str):
+    """A fixed-length vector field whose unit is shown in error messages."""
+    return Annotated[vec, Field(json_schema_extra={"unit": unit})]
+
+
+_Real = Annotated[float, Strict(), Field(allow_inf_nan=False)]  # a finite number
+_Bound = Annotated[float, Strict()]  # a region bound: a number, +-inf allowed
+Vec2 = tuple[_Real, _Real]
+Vec3 = tuple[_Real, _Real, _Real]
 
 
 class _Section(BaseModel):
@@ -42,12 +58,12 @@ class RunSpec(_Section):
     duration: _q("s") = 1.0
     dt: Union[Literal["auto"], _q("s")] = "auto"
     dt_safety: _q("", gt=0.0, le=1.0) = 0.5
-    allow_unstable_dt: bool = False
+    allow_unstable_dt: StrictBool = False
     output: str = ""
-    series_every: Annotated[int, Field(ge=1)] = 100
-    snapshots: Annotated[int, Field(ge=0)] = 5
-    check_every: Annotated[int, Field(ge=1)] = 10
-    stop_at_first_break: bool = False
+    series_every: _count(1) = 100
+    snapshots: _count(0) = 5
+    check_every: _count(1) = 10
+    stop_at_first_break: StrictBool = False
 
 
 class WaterSpec(_Section):
@@ -55,7 +71,7 @@ class WaterSpec(_Section):
 
     density: _q("kg/m^3") = 1025.0
     level: _q("m", gt=None) = 0.0
-    current: Vec2 = (0.0, 0.0)
+    current: _vec(Vec2, "m/s") = (0.0, 0.0)
     drag_coefficient: _q("", gt=None, ge=0.0) = 1.0
     heave_damping_ratio: _q("", gt=None, ge=0.0, lt=1.0) = 0.0
 
@@ -64,7 +80,7 @@ class PushSpec(_Section):
     """[ice.push]: the rear edge of the sheet driven at a constant speed along +x."""
 
     speed: _q("m/s", gt=None) = 0.05
-    rows: Annotated[int, Field(ge=1)] = 1
+    rows: _count(1) = 1
 
 
 class IceSpec(_Section):
@@ -75,8 +91,8 @@ class IceSpec(_Section):
     element_diameter: _q("m") = 1.0
     length: _q("m") = 20.0
     width: _q("m") = 10.0
-    origin: Vec2 = (0.0, 0.0)
-    velocity: Vec2 = (0.0, 0.0)
+    origin: _vec(Vec2, "m") = (0.0, 0.0)
+    velocity: _vec(Vec2, "m/s") = (0.0, 0.0)
     element_volume: Literal["sphere", "cell"] = "sphere"
     youngs_modulus: Optional[_q("Pa")] = None
     poissons_ratio: _q("", gt=None, ge=0.0, lt=0.5) = 0.3
@@ -95,7 +111,7 @@ class BondSpec(_Section):
     shear_strength: Optional[_q("Pa")] = None
     friction: Optional[_q("", gt=None, ge=0.0)] = None
     damping_ratio: _q("", gt=None, ge=0.0, le=1.0) = 0.0
-    breakable: bool = True
+    breakable: StrictBool = True
 
 
 class ContactSpec(_Section):
@@ -112,9 +128,9 @@ class WallSpec(_Section):
 
     name: str = ""
     type: Literal["plane", "triangle", "mesh"]
-    point: Optional[Vec3] = None
+    point: Optional[_vec(Vec3, "m")] = None
     normal: Optional[Vec3] = None
-    vertices: Optional[tuple[Vec3, Vec3, Vec3]] = None
+    vertices: Optional[_vec(tuple[Vec3, Vec3, Vec3], "m")] = None
     file: Optional[str] = None
     friction: _q("", gt=None, ge=0.0) = 0.1
     normal_stiffness: Optional[_q("N/m")] = None
@@ -124,35 +140,60 @@ class WallSpec(_Section):
         need = {"plane": ("point", "normal"), "triangle": ("vertices",), "mesh": ("file",)}[self.type]
         for key in need:
             if getattr(self, key) is None:
-                raise ValueError(f"{key}: a {self.type} wall needs '{key}'")
+                raise ValueError(f"{key}: missing: a {self.type} wall needs {key} = {_WALL_KEY_HINTS[key]}")
         if self.type == "plane" and math.hypot(*self.normal) == 0.0:
-            raise ValueError("normal: must be a non-zero vector")
+            raise ValueError("normal: must be a non-zero vector [nx, ny, nz] (any length; it is normalised)")
+        if self.type == "triangle":
+            a, b, c = (tuple(map(float, v)) for v in self.vertices)
+            ab = [b[i] - a[i] for i in range(3)]
+            ac = [c[i] - a[i] for i in range(3)]
+            cross = (ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0])
+            longest2 = max(sum(x * x for x in e) for e in (ab, ac, [c[i] - b[i] for i in range(3)]))
+            if math.hypot(*cross) <= 1e-12 * longest2:
+                raise ValueError("vertices: degenerate triangle (zero area): the three vertices [m] must not "
+                                 "coincide or lie on one line")
         return self
+
+
+_WALL_KEY_HINTS = {"point": "[x, y, z] (a point on the plane, m)",
+                   "normal": "[nx, ny, nz] (pointing towards the ice)",
+                   "vertices": "[[x, y, z], [x, y, z], [x, y, z]] (m)",
+                   "file": "\"path/to/mesh.stl\" (relative to the job file's folder)"}
 
 
 class Region(_Section):
     """An axis-aligned box selecting elements by their initial centre [m]; open sides default to infinity."""
 
-    xmin: float = -math.inf
-    xmax: float = math.inf
-    ymin: float = -math.inf
-    ymax: float = math.inf
-    zmin: float = -math.inf
-    zmax: float = math.inf
+    xmin: _Bound = -math.inf
+    xmax: _Bound = math.inf
+    ymin: _Bound = -math.inf
+    ymax: _Bound = math.inf
+    zmin: _Bound = -math.inf
+    zmax: _Bound = math.inf
 
 
 class LoadSpec(_Section):
     """[[loads]]: a constant total force [N] shared evenly by the elements in a region."""
 
-    force: Vec3
+    force: _vec(Vec3, "N")
     region: Region
 
 
 class FixSpec(_Section):
     """[[fixes]]: prescribed velocity components [m/s] for the elements in a region ("free" leaves one free)."""
 
-    velocity: tuple[Union[float, Literal["free"]], Union[float, Literal["free"]], Union[float, Literal["free"]]]
+    velocity: _vec(tuple[Union[_Real, Literal["free"]], Union[_Real, Literal["free"]], Union[_Real, Literal["free"]]],
+                   "m/s")
     region: Region
+
+
+class ParallelSpec(_Section):
+    """[parallel]: decomposition and load balance (ignored on one rank)."""
+
+    skin: _q("m") = 0.3
+    balance_every: Annotated[int, Field(ge=0)] = 500
+    imbalance_threshold: _q("", gt=1.0) = 1.05
+    domain: Optional[tuple[Vec2, Vec2]] = None
 
 
 class Job(_Section):
@@ -167,46 +208,81 @@ class Job(_Section):
     walls: tuple[WallSpec, ...] = ()
     loads: tuple[LoadSpec, ...] = ()
     fixes: tuple[FixSpec, ...] = ()
+    parallel: ParallelSpec = ParallelSpec()
     source: str = Field(default="", exclude=True)
     text: str = Field(default="", exclude=True)
 
     @model_validator(mode="after")
     def _consistent(self):
-        ice, bond = self.ice, self.bond
+        """Rules between keys; every broken rule is reported (one line each)."""
+        ice, bond, run = self.ice, self.bond, self.run
+        problems: list[_Located] = []
+
+        def bad(loc, value, msg):
+            problems.append(_Located(loc, value, msg))
+
+        # the HCP sheet needs at least one element across each dimension (scenes/level_ice.py)
         if ice.thickness < ice.element_diameter * (1 - 1e-9):
-            raise _Located(("ice", "thickness"), ice.thickness,
-                           f"must be >= ice.element_diameter = {ice.element_diameter} m (one layer of elements)")
+            bad(("ice", "thickness"), ice.thickness,
+                f"must be >= ice.element_diameter = {ice.element_diameter} m (one layer of elements)")
         for key in ("length", "width"):
             if getattr(ice, key) < ice.element_diameter:
-                raise _Located(("ice", key), getattr(ice, key),
-                               f"must be >= ice.element_diameter = {ice.element_diameter} m")
+                bad(("ice", key), getattr(ice, key), f"must be >= ice.element_diameter = {ice.element_diameter} m "
+                    "(one element across)")
+        # bond stiffness: given directly or calibrated from E (physics/bond.py)
         has_k = bond.normal_stiffness is not None
         if has_k and ice.youngs_modulus is not None:
-            raise _Located(("bond", "normal_stiffness"), bond.normal_stiffness,
-                           "give either bond.normal_stiffness or ice.youngs_modulus, not both")
+            bad(("bond", "normal_stiffness"), bond.normal_stiffness,
+                f"give either bond.normal_stiffness [N/m] or ice.youngs_modulus [Pa] (= {ice.youngs_modulus}), "
+                "not both")
         if not has_k and ice.youngs_modulus is None:
-            raise _Located(("bond", "normal_stiffness"), None,
-                           "missing: give bond.normal_stiffness [N/m] or ice.youngs_modulus [Pa]")
+            bad(("bond", "normal_stiffness"), None,
+                "missing: give bond.normal_stiffness [N/m] or ice.youngs_modulus [Pa]")
+        # bond strength: given directly or from the flexural strength by Eq. 6 of Zhu & Ji (2022)
         if bond.breakable and bond.normal_strength is None and ice.flexural_strength is None:
-            raise _Located(("bond", "normal_strength"), None,
-                           "missing: give bond.normal_strength [Pa] or ice.flexural_strength [Pa] "
-                           "(or set bond.breakable = false)")
+            bad(("bond", "normal_strength"), None,
+                "missing: give bond.normal_strength [Pa] or ice.flexural_strength [Pa] "
+                "(or set bond.breakable = false)")
+        # bond friction mu = 0.23 sc/sf - 0.5 (Eq. 7 of Zhu & Ji 2022) unless bond.friction is given
         if bond.friction is None and ice.compressive_strength is None and ice.flexural_strength is not None \
                 and bond.normal_strength is None and bond.breakable:
-            raise _Located(("ice", "compressive_strength"), None,
-                           "missing: Eq. 7 needs ice.compressive_strength [Pa] for the bond friction "
-                           "(or give bond.friction)")
-        if self.run.dt != "auto" and self.run.dt >= self.run.duration:
-            raise _Located(("run", "dt"), self.run.dt, f"must be < run.duration = {self.run.duration} s")
+            bad(("ice", "compressive_strength"), None,
+                "missing: Eq. 7 needs ice.compressive_strength [Pa] for the bond friction (or give bond.friction)")
+        if bond.breakable and bond.friction is None and ice.compressive_strength is not None \
+                and ice.flexural_strength is not None:
+            mu = EQ7_SLOPE * ice.compressive_strength / ice.flexural_strength - EQ7_OFFSET
+            if mu < 0:
+                bad(("ice", "compressive_strength"), ice.compressive_strength,
+                    f"must be >= {EQ7_OFFSET / EQ7_SLOPE:.4g} x ice.flexural_strength = "
+                    f"{EQ7_OFFSET / EQ7_SLOPE * ice.flexural_strength:.4g} Pa, else Eq. 7 gives a negative bond "
+                    f"friction (0.23 sc/sf - 0.5 = {mu:.3g}); or give bond.friction")
+        # a floating sheet (scenes/level_ice.py floats it at its rest height)
+        if self.water is not None and self.gravity > 0 and ice.density >= self.water.density:
+            bad(("ice", "density"), ice.density,
+                f"must be < water.density = {self.water.density} kg/m^3, else the ice sinks")
+        if run.dt != "auto" and run.dt >= run.duration:
+            bad(("run", "dt"), run.dt, f"must be < run.duration = {run.duration} s")
+        if problems:
+            raise _Located.group(problems)
         return self
 
 
+EQ7_SLOPE, EQ7_OFFSET = 0.23, 0.5  # Eq. 7 of Zhu & Ji (2022): mu = 0.23 sc/sf - 0.5 (as in physics/bond.py)
+
+
 class _Located(ValueError):
-    """A cross-field error that knows which key it is about."""
+    """A cross-field error that knows which key it is about; ``problems`` lists all of them."""
 
     def __init__(self, loc, value, msg):
         self.loc, self.value, self.msg = loc, value, msg
+        self.problems = [self]
         super().__init__(msg)
+
+    @classmethod
+    def group(cls, problems: list["_Located"]) -> "_Located":
+        first = problems[0]
+        first.problems = list(problems)
+        return first
 
 
 _TYPE_WORDS = {
@@ -259,6 +335,52 @@ def _inner_model(ann):
     return None
 
 
+def _tuple_length(loc) -> int | None:
+    """Fixed length of the tuple field at ``loc`` (e.g. 3 for a Vec3), None if not a fixed tuple."""
+    ann: Any = Job
+    for part in loc:
+        ann = _strip(ann)
+        if isinstance(part, int):
+            args = get_args(ann) if get_origin(ann) is tuple else ()
+            if not args:
+                return None
+            ann = args[0] if args[-1] is Ellipsis else args[min(part, len(args) - 1)]
+        else:
+            model = _inner_model(ann)
+            if model is None or part not in model.model_fields:
+                return None
+            ann = model.model_fields[part].annotation
+    ann = _strip(ann)
+    args = get_args(ann) if get_origin(ann) is tuple else ()
+    return len(args) if args and args[-1] is not Ellipsis else None
+
+
+def _is_table(loc) -> bool:
+    """True if the key at ``loc`` is a section (a pydantic model), not a value."""
+    model: Any = Job
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        f = getattr(model, "model_fields", {}).get(part) if model is not None else None
+        if f is None:
+            return False
+        model = _inner_model(f.annotation)
+    return model is not None and get_origin(_strip(f.annotation)) is not tuple
+
+
+def _strip(ann):
+    """Annotated[X, ...] -> X and Optional[X] -> X."""
+    while True:
+        if get_origin(ann) is Annotated:
+            ann = get_args(ann)[0]
+            continue
+        args = [a for a in get_args(ann) if a is not type(None)]
+        if get_origin(ann) is Union and len(args) == 1:
+            ann = args[0]
+            continue
+        return ann
+
+
 def _allowed_keys(loc) -> list[str]:
     model: Any = Job
     for part in loc[:-1]:
@@ -290,17 +412,29 @@ def _format(err: dict) -> tuple[str, Any, str]:
     if typ == "extra_forbidden":
         allowed = ", ".join(_allowed_keys(loc))
         return _key(loc), value, f"unknown key; expected one of: {allowed}"
+    if typ == "missing" and loc and isinstance(loc[-1], int):  # a list one entry short of a fixed length
+        n = _tuple_length(loc[:-1])
+        got = f", not {len(value)}" if isinstance(value, (list, tuple)) else ""
+        return _key(loc[:-1]), value, f"must have {n} entries{got}" if n else "too few entries"
     if typ == "missing":
-        return _key(loc), None, "missing: this key is required"
+        table = _key(tuple(p for p in loc if not isinstance(p, int)))
+        return _key(loc), None, (f"missing: the [{table}] table is required" if _is_table(loc)
+                                 else "missing: this key is required")
+    if typ == "model_type" and isinstance(value, list):
+        table = _key(tuple(p for p in loc if not isinstance(p, int)))
+        return _key(loc), value, f"must be a table: write [{table}], not [[{table}]]"
     if typ in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         op = {"greater_than": ">", "greater_than_equal": ">=", "less_than": "<", "less_than_equal": "<="}[typ]
         bound = list(ctx.values())[0]
         bound = f"{bound:g}" if isinstance(bound, float) else bound
         return _key(loc), value, f"must be {op} {bound}{u}"
     if typ == "literal_error":
-        return _key(loc), value, f"must be one of {ctx.get('expected')}"
+        expected = str(ctx.get("expected"))
+        return _key(loc), value, f"must be {'one of ' if ' or ' in expected else ''}{expected}"
     if typ in ("too_short", "too_long"):
-        return _key(loc), value, f"must have {ctx.get('min_length', ctx.get('max_length'))} entries"
+        n = ctx.get("min_length") if typ == "too_short" else ctx.get("max_length")
+        got = f", not {ctx['actual_length']}" if ctx.get("actual_length") is not None else ""
+        return _key(loc), value, f"must have {'at least' if typ == 'too_short' else 'at most'} {n} entries{got}"
     if typ == "value_error":
         msg = str(ctx.get("error", err["msg"]))
         if ": " in msg:
@@ -312,12 +446,22 @@ def _format(err: dict) -> tuple[str, Any, str]:
     return _key(loc), value, f"{words}{' (' + unit + ')' if unit else ''}"
 
 
-def _show(value) -> str:
+def _show(value, top: bool = True) -> str:
+    """A value as it reads in TOML (true, 1.0, [1.0, 2.0], 'text'), on one short line."""
     if value is None:
         return "(absent)"
+    if isinstance(value, bool):
+        return "true" if value else "false"
     if isinstance(value, dict):
-        return "{...}"
-    return repr(value) if isinstance(value, str) else str(value)
+        if not top or len(value) > 6:
+            return "{...}"
+        return "{" + ", ".join(f"{k} = {_show(v, False)}" for k, v in value.items()) + "}"
+    if isinstance(value, (list, tuple)):
+        if len(value) > 6:
+            return f"[{len(value)} entries]"
+        return "[" + ", ".join(_show(v, False) for v in value) + "]"
+    text = repr(value) if isinstance(value, str) else str(value)
+    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def parse_job(data: dict, source: str = "<job>", text: str = "", base_dir: pathlib.Path | None = None) -> Job:
@@ -325,15 +469,16 @@ def parse_job(data: dict, source: str = "<job>", text: str = "", base_dir: pathl
     try:
         job = Job.model_validate({**data, "source": source, "text": text})
     except _Located as exc:  # raised inside a model validator of the top-level model
-        raise JobError(f"{source}: {'.'.join(exc.loc)} = {_show(exc.value)}: {exc.msg}") from None
+        raise JobError([f"{source}: {_key(c.loc)} = {_show(c.value)}: {c.msg}" for c in exc.problems]) from None
     except ValidationError as exc:
         problems: dict[str, tuple[Any, list[str]]] = {}
         for err in exc.errors(include_url=False):
             cause = err.get("ctx", {}).get("error")
             if isinstance(cause, _Located):
-                key, value, msg = ".".join(cause.loc), cause.value, cause.msg
-            else:
-                key, value, msg = _format(err)
+                for c in cause.problems:
+                    problems.setdefault(_key(c.loc), (c.value, []))[1].append(c.msg)
+                continue
+            key, value, msg = _format(err)
             # a union (e.g. dt = "auto" or a number) fails once per branch: join them
             problems.setdefault(key, (value, []))[1].append(msg)
         lines = []
@@ -354,8 +499,12 @@ def load_job(path: str | pathlib.Path) -> Job:
     """Read and validate a TOML job file; raise JobError naming the file on any problem."""
     path = pathlib.Path(path)
     if not path.is_file():
-        raise JobError(f"{path}: file not found: give the path of a TOML job file (see jobs/)")
-    text = path.read_text(encoding="utf-8", errors="replace")
+        what = "is a directory" if path.is_dir() else "file not found"
+        raise JobError(f"{path}: {what}: give the path of a TOML job file (see jobs/)")
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise JobError(f"{path}: cannot read the job file ({exc.strerror or exc})") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

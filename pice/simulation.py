@@ -8,6 +8,7 @@ The step (velocity Verlet):
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, field
 
@@ -26,6 +27,8 @@ from .physics.hydro import heave_damping, water_array
 from .physics.timestep import choose_step, stable_step
 from .physics.walls import build_walls
 from .scenes.level_ice import build_level_ice
+
+log = logging.getLogger("pice")
 
 MAX_EVENTS = 100_000
 RUNAWAY_STEP_FRACTION = 0.05  # an element moving more than 5 % of its radius in one step has run away
@@ -47,8 +50,12 @@ class Counters:
 class Simulation:
     """Particles, parameters and the time loop of one job on one rank."""
 
-    def __init__(self, job, *, base_dir=None):
+    def __init__(self, job, *, base_dir=None, comm=None):
+        from .parallel.comm import world
+
         self.job = job
+        self.comm = comm if comm is not None else world()
+        # every rank builds the same whole sheet (deterministic), then keeps its own part
         self.p, self.sheet = build_level_ice(job)
         p = self.p
         m0, i0 = float(p.mass.min()), float(p.inertia.min())
@@ -59,10 +66,15 @@ class Simulation:
         self.wall_kinds, self.wall_geometry, self.wall_params = kinds, geom, wparams
         self.wall_names, self.wall_owner = names, owner
         self.wall_force = np.zeros((len(kinds), 3))
+        self.wall_moment = np.zeros((len(kinds), 3))
         self.water = water_array(job)
+        from .parallel.coupling import BodyCoupling
+
+        self.coupling = BodyCoupling(self.comm, len(job.walls))
+        self.wall_total = None
         self.gravity = job.gravity
         p.allocate_dynamic(len(kinds))
-        self.heave_c = heave_damping(job, p)
+        p.heave_damping = heave_damping(job, p)
         self._apply_loads_and_fixes()
         self._refuse_initial_wall_overlap()
         self.cell_size = 2.0 * float(p.radius.max()) * 1.0001
@@ -70,6 +82,7 @@ class Simulation:
         self.dt = self.limit.chosen
         self.c = Counters()
         self._events = np.zeros((MAX_EVENTS, 4), dtype=np.int64)
+        self._distribute()
         self.compute_forces()
 
     # -- set-up -------------------------------------------------------------------------------
@@ -125,13 +138,68 @@ class Simulation:
         params = self.wall_params.copy()
         params[:, 1:] = 0.0  # elastic normal force only
         wall_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, self.wall_kinds,
-                    self.wall_geometry, params, np.zeros_like(p.wall_hist), 0.0, f, t, wf)
+                    self.wall_geometry, params, np.zeros_like(p.wall_hist), 0.0, f, t, wf, np.zeros_like(wf))
         hit = np.nonzero(np.abs(wf).sum(axis=1) > 0)[0]
         if len(hit):
             k = int(self.wall_owner[hit[0]])
             n_el = int(np.count_nonzero(np.abs(f).sum(axis=1) > 0))
             raise JobError(f"{self.job.source}: walls[{k}] ({self.wall_names[k]}): overlaps {n_el} ice "
                            "element(s) at t = 0; move the wall clear of the sheet (or the sheet's origin)")
+
+    def _distribute(self) -> None:
+        """Decompose the sheet over the ranks and set up the halo (a no-op on one rank)."""
+        from .parallel.decomposition import uniform
+        from .parallel.halo import Halo
+
+        p, par = self.p, self.job.parallel
+        if par.domain is not None:
+            lo, hi = par.domain
+        else:
+            lo, hi = tuple(p.x[:, :2].min(axis=0)), tuple(p.x[:, :2].max(axis=0))
+        self.decomp = uniform(self.comm.size, lo=lo, hi=hi)
+        self.halo = Halo(self.comm, self.decomp, ghost_width=self.ghost_width(), skin=par.skin)
+        if self.comm.size > 1:
+            mine = np.nonzero(self.decomp.owner(p.x[:, 0], p.x[:, 1]) == self.comm.rank)[0]
+            p.replace_rows([p.rows(mine)], len(mine))
+        self.halo.rebuild(p)
+
+    def ghost_width(self) -> float:
+        """Halo width [m]: the contact reach or the longest bond at its breaking stretch, plus the skin."""
+        p, b = self.p, self.bond
+        reach = 2.0 * float(p.radius.max())
+        longest = float(p.bond_L0.max()) if p.bond_L0.size else 0.0
+        if np.isfinite(b.normal_strength):
+            longest += b.normal_strength * b.area / b.kn  # stretch at which tension alone breaks it
+        else:
+            longest *= 1.5  # unbreakable bonds: allow 50 % stretch; the run checks it
+        return max(reach, longest) + self.job.parallel.skin
+
+    def exchange(self) -> None:
+        """After the drift: rebalance on schedule, else rebuild the halo if needed, else update ghosts."""
+        p, every = self.p, self.job.parallel.balance_every
+        if self.comm.size > 1 and every and self.c.step % every == 0 and self.rebalance():
+            return
+        if self.halo.needs_rebuild(p):
+            self.halo.rebuild(p)
+        else:
+            self.halo.update(p)
+
+    def rebalance(self) -> bool:
+        """Move the cuts if max/mean particles per rank exceeds the threshold; True if it did (and rebuilt)."""
+        from .parallel.balance import imbalance, rebalanced
+
+        self.imbalance = imbalance(self.comm, self.p.nlocal)
+        if self.imbalance <= self.job.parallel.imbalance_threshold:
+            return False
+        self.decomp = rebalanced(self.comm, self.decomp, self.p.x[:self.p.nlocal])
+        self.halo.decomp = self.decomp
+        self.halo.rebuild(self.p)
+        after = imbalance(self.comm, self.p.nlocal)
+        if self.comm.rank == 0:
+            log.info("step %d: load balance %.3f -> %.3f (max/mean particles per rank)",
+                     self.c.step, self.imbalance, after)
+        self.imbalance = after
+        return True
 
     def _time_step(self):
         p, b = self.p, self.bond
@@ -165,12 +233,15 @@ class Simulation:
             p.nlocal, p.n, p.gid, p.x, p.v, p.w, p.radius, p.mass, p.bond_j, p.contact_gid, p.contact_stamp,
             p.contact_hist, self.contact_params, self.dt, c.step, self.cell_size, p.force, p.torque)
         self.wall_force[:] = 0.0
+        self.wall_moment[:] = 0.0
         if len(self.wall_kinds):
             c.wall_energy = wall_forces(p.nlocal, p.x, p.v, p.w, p.radius, p.mass, self.wall_kinds,
                                         self.wall_geometry, self.wall_params, p.wall_hist, self.dt,
-                                        p.force, p.torque, self.wall_force)
+                                        p.force, p.torque, self.wall_force, self.wall_moment)
         hydro_forces(p.nlocal, p.x, p.v, p.radius, p.mass, p.cell_area, p.half_height, self.gravity,
-                     self.water, self.heave_c, p.force)
+                     self.water, p.heave_damping, p.force)
+        if len(self.job.walls):
+            self.wall_total = self.coupling.reduce_loads(self._local_wall_loads())
 
     def step(self) -> None:
         p, dt = self.p, self.dt
@@ -179,6 +250,7 @@ class Simulation:
         drift(p.nlocal, p.x, p.v, dt)
         self.c.step += 1
         self.c.time = self.c.step * dt
+        self.exchange()
         self.compute_forces()
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
 
@@ -194,8 +266,12 @@ class Simulation:
         """Raise InstabilityError naming the step, the element and the likely cause on NaN or runaway."""
         p = self.p
         ratio, i, nonfinite = max_step_displacement(p.nlocal, p.v, p.w, p.radius, self.dt)
-        if not nonfinite and ratio <= RUNAWAY_STEP_FRACTION:
+        bad = 1.0 if (nonfinite or ratio > RUNAWAY_STEP_FRACTION) else 0.0
+        if self.comm.max(bad) == 0.0:
+            self.halo.check_bond_lengths(p)
             return
+        if not bad:  # another rank holds the runaway element: it reports, we stop with it
+            raise InstabilityError(f"unstable at step {self.c.step}: reported by another rank")
         what = "a non-finite velocity (NaN/inf)" if nonfinite else \
             f"a displacement of {ratio:.3g} radii in one step"
         if self.dt > self.limit.stable:
@@ -221,30 +297,45 @@ class Simulation:
             pb = float(sum(buoyancy_potential(p.x[i, 2], p.radius[i], p.cell_area[i], p.half_height[i],
                                               level, rho, self.gravity) for i in range(n)))
         eb = bond_energy(n, p.gid, p.bond_gid, p.bond_hist, self.bond_params)
-        total = ke + kr + pg + pb + eb + self.c.contact_energy + self.c.wall_energy
-        return dict(kinetic_energy=ke, rotational_energy=kr, gravity_energy=pg, buoyancy_energy=pb,
-                    bond_energy=eb, contact_energy=self.c.contact_energy, wall_energy=self.c.wall_energy,
-                    total_energy=total)
-
-    def wall_loads(self) -> np.ndarray:
-        """(n_wall_entries, 3) force of the ice on each [[walls]] entry [N]."""
-        out = np.zeros((len(self.job.walls), 3))
-        if len(self.wall_owner):
-            np.add.at(out, self.wall_owner, self.wall_force)
+        parts = self.comm.sum(np.array([ke, kr, pg, pb, eb, self.c.contact_energy, self.c.wall_energy]))
+        names = ("kinetic_energy", "rotational_energy", "gravity_energy", "buoyancy_energy", "bond_energy",
+                 "contact_energy", "wall_energy")
+        out = {k: float(v) for k, v in zip(names, parts)}
+        out["total_energy"] = float(parts.sum())
         return out
 
+    def _local_wall_loads(self) -> np.ndarray:
+        """(n_wall_entries, 6): force [N] of this rank's ice on each [[walls]] entry, and its moment
+        about the origin [N m] (each contact force acts at the sphere's contact point)."""
+        out = np.zeros((len(self.job.walls), 6))
+        if len(self.wall_owner):
+            np.add.at(out[:, :3], self.wall_owner, self.wall_force)
+            np.add.at(out[:, 3:], self.wall_owner, self.wall_moment)
+        return out
+
+    def wall_loads(self) -> np.ndarray | None:
+        """(n_wall_entries, 6) force [N] and moment about the origin [N m] of the ice on each wall,
+        reduced on rank 0 every step (None on other ranks)."""
+        if not len(self.job.walls):
+            return np.zeros((0, 6)) if self.comm.rank == 0 else None
+        return self.wall_total
+
     def series_row(self) -> dict[str, np.ndarray | float]:
-        row = dict(time=self.c.time, step=float(self.c.step), bonds=float(self.p.bond_count()),
-                   broken_bonds=float(self.c.broken), contacts=float(self.c.contacts))
+        counts = self.comm.sum(np.array([self.p.bond_count(), self.c.broken, self.c.contacts], dtype=np.float64))
+        row = dict(time=self.c.time, step=float(self.c.step), bonds=counts[0], broken_bonds=counts[1],
+                   contacts=counts[2])
         row.update(self.energies())
-        row["wall_force"] = self.wall_loads()
+        loads = self.wall_loads()
+        if loads is not None:
+            row["wall_force"] = loads[:, :3]
+            row["wall_moment"] = loads[:, 3:]
         return row
 
     def describe(self) -> dict:
         """Facts for `pice check` and the run file's attributes."""
         p = self.p
         nbytes = sum(a.nbytes for a in vars(p).values() if isinstance(a, np.ndarray))
-        return dict(elements=p.n, bonds=p.bond_count(), layers=self.sheet.n_layers,
+        return dict(elements=int(self.comm.sum(p.nlocal)), bonds=int(self.comm.sum(p.bond_count())), layers=self.sheet.n_layers,
                     thickness_modelled=self.sheet.actual_thickness, memory_bytes=nbytes,
                     dt_stable=self.limit.stable, dt=self.dt, dt_safety=self.limit.safety,
                     dt_governed_by=self.limit.governed_by, steps_per_second=1.0 / self.dt,

@@ -23,6 +23,13 @@ BOND_HIST = 8
 KIND_ICE = 0
 
 
+# arrays that travel with a particle when it migrates (bond_j is re-resolved from bond_gid;
+# force and torque are recomputed)
+PER_PARTICLE = ("gid", "x", "v", "w", "radius", "mass", "inertia", "kind", "volume", "cell_area",
+                "half_height", "bond_gid", "bond_mate", "bond_L0", "bond_hist", "ext_force", "fix_mask",
+                "fix_velocity", "contact_gid", "contact_stamp", "contact_hist", "wall_hist", "heave_damping")
+
+
 @dataclass
 class Particles:
     """All per-particle arrays of one rank. The first ``nlocal`` entries are owned; the rest are ghosts."""
@@ -52,6 +59,7 @@ class Particles:
     contact_stamp: np.ndarray = field(default=None)  # (n,MAX_CONTACTS) int64, step last touched
     contact_hist: np.ndarray = field(default=None)  # (n,MAX_CONTACTS,3) tangential force [N]
     wall_hist: np.ndarray = field(default=None)     # (n,n_walls,3) tangential force [N]
+    heave_damping: np.ndarray = field(default=None)  # (n,) linear heave damping [N s/m]
     nlocal: int = 0
 
     @property
@@ -72,6 +80,26 @@ class Particles:
         self.contact_stamp = np.full((n, MAX_CONTACTS), -10, dtype=np.int64)
         self.contact_hist = np.zeros((n, MAX_CONTACTS, 3))
         self.wall_hist = np.zeros((n, max(n_walls, 1), 3))
+        if self.heave_damping is None:
+            self.heave_damping = np.zeros(n)
+
+    def rows(self, idx: np.ndarray) -> dict[str, np.ndarray]:
+        """Copies of every per-particle array at the indices ``idx`` (what migrates with a particle)."""
+        return {name: getattr(self, name)[idx] for name in PER_PARTICLE}
+
+    def replace_rows(self, parts: list[dict[str, np.ndarray]], nlocal: int) -> None:
+        """Set every per-particle array to the concatenation of ``parts``; the first nlocal are owned.
+
+        force/torque are reallocated (they are recomputed after every exchange); bond_j is left to be
+        resolved from bond_gid.
+        """
+        for name in PER_PARTICLE:
+            setattr(self, name, np.concatenate([part[name] for part in parts]))
+        n = len(self.gid)
+        self.nlocal = nlocal
+        self.force = np.zeros((n, 3))
+        self.torque = np.zeros((n, 3))
+        self.bond_j = np.full(self.bond_gid.shape, -1, dtype=np.int32)
 
     def intact_bonds(self) -> np.ndarray:
         """(m,2) int64 gid pairs of intact bonds among owned particles, each bond once (lower gid first)."""

@@ -68,7 +68,7 @@ class RunFile:
             value = np.asarray(value, dtype=np.float64)
             if key not in self.series:
                 self.series.create_dataset(key, shape=(0, *value.shape), maxshape=(None, *value.shape),
-                                           dtype="f8", chunks=(256, *value.shape))
+                                           dtype="f8", chunks=(256, *value.shape) if all(value.shape) else True)
             ds = self.series[key]
             ds.resize(self.rows + 1, axis=0)
             ds[self.rows] = value
@@ -84,20 +84,16 @@ class RunFile:
         self.events.resize(n0 + len(arr), axis=0)
         self.events[n0:] = arr
 
-    def write_snapshot(self, index: int, *, time: float, step: int, particles) -> None:
-        """Owned particles sorted by gid, and intact bonds as gid pairs."""
-        p = particles
-        n = p.nlocal
-        order = np.argsort(p.gid[:n], kind="stable")
+    def write_snapshot_arrays(self, index: int, *, time: float, step: int, arrays: dict) -> None:
+        """Particles sorted by gid (gid, x, v, w, radius, kind) and intact bonds as sorted gid pairs."""
+        order = np.argsort(arrays["gid"], kind="stable")
         g = self.snapshots.create_group(f"{index:05d}")
         g.attrs["time"] = time
         g.attrs["step"] = step
-        g["gid"] = p.gid[:n][order]
-        for name in ("x", "v", "w"):
-            g.create_dataset(name, data=getattr(p, name)[:n][order])
-        g["radius"] = p.radius[:n][order]
-        g["kind"] = p.kind[:n][order]
-        g["bonds"] = p.intact_bonds()
+        for name in ("gid", "x", "v", "w", "radius", "kind"):
+            g.create_dataset(name, data=arrays[name][order])
+        bonds = arrays["bonds"].reshape(-1, 2)
+        g["bonds"] = bonds[np.lexsort((bonds[:, 1], bonds[:, 0]))] if len(bonds) else bonds
         self.h5.flush()
 
     def close(self, status: str = "finished") -> None:

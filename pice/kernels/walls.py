@@ -54,8 +54,10 @@ def closest_point_on_triangle(p, a, b, c, out):
 
 
 @njit(**JIT)
-def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt, force, torque, wall_force):
-    """Add wall contact forces to owned particles; accumulate the reaction on each wall [N].
+def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt, force, torque, wall_force,
+                wall_moment):
+    """Add wall contact forces to owned particles; accumulate the reaction on each wall [N] and its
+    moment about the origin [N m] (the reaction acts at the sphere's contact point).
 
     hist: (n, n_walls, 3) tangential force history per particle and wall, reset when contact ends.
     Returns the elastic energy stored in wall contacts [J].
@@ -122,6 +124,10 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
             wall_force[wi, 0] -= f0
             wall_force[wi, 1] -= f1
             wall_force[wi, 2] -= f2
+            q0, q1, q2 = p[0] + c0, p[1] + c1, p[2] + c2
+            wall_moment[wi, 0] -= q1 * f2 - q2 * f1
+            wall_moment[wi, 1] -= q2 * f0 - q0 * f2
+            wall_moment[wi, 2] -= q0 * f1 - q1 * f0
             energy += 0.5 * kn * delta * delta
             if kt > 0.0:
                 energy += 0.5 * ftm * ftm / kt

@@ -58,7 +58,7 @@ def choose_step(*, requested, safety: float, stable: float, governed_by: str, al
     if requested == "auto":
         return StepLimit(stable=stable, chosen=safety * stable, safety=safety, governed_by=governed_by)
     if requested > stable and not allow_unstable:
-        raise JobError(f"{source}: run.dt = {requested:g}: above the stability limit {stable:.4g} s "
+        raise JobError(f"{source}: run.dt = {requested}: above the stability limit {stable:.4g} s "
                        f"({governed_by}); use dt <= {stable:.4g} s or dt = \"auto\" "
                        "(run.allow_unstable_dt = true overrides, for testing only)")
     return StepLimit(stable=stable, chosen=float(requested), safety=float(requested) / stable,

@@ -36,9 +36,12 @@ def build_walls(job, *, default_kn: float, base_dir: pathlib.Path | None = None)
             tris = [np.asarray(wall.vertices, float)]
         else:
             tris = _read_mesh(base_dir or pathlib.Path("."), wall.file, job.source, k)
-        for tri in tris:
+        for face, tri in enumerate(tris):
             if np.linalg.norm(np.cross(tri[1] - tri[0], tri[2] - tri[0])) == 0.0:
-                raise JobError(f"{job.source}: walls[{k}] = {tri.tolist()}: degenerate triangle (zero area)")
+                where = (f"walls[{k}].vertices = {tri.tolist()}" if wall.type == "triangle" else
+                         f"walls[{k}].file = {wall.file!r}: face {face} {tri.tolist()}")
+                raise JobError(f"{job.source}: {where}: degenerate triangle (zero area): the three vertices [m] "
+                               "must not coincide or lie on one line")
             geometry.append(tri.reshape(9))
             kinds.append(TRIANGLE)
             params.append(row)
@@ -50,15 +53,25 @@ def build_walls(job, *, default_kn: float, base_dir: pathlib.Path | None = None)
 
 
 def _read_mesh(base: pathlib.Path, file: str, source: str, k: int) -> list[np.ndarray]:
+    import contextlib
+    import io
+    import warnings
+
     import meshio
 
+    chatter = io.StringIO()  # meshio prints (and for some formats calls sys.exit) on a bad file
     try:
-        mesh = meshio.read(base / file)
-    except Exception as exc:  # meshio raises many types for unreadable files
-        raise JobError(f"{source}: walls[{k}].file = {file!r}: cannot read the mesh ({exc}); "
+        with warnings.catch_warnings(), contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
+            warnings.simplefilter("ignore")
+            mesh = meshio.read(base / file)
+    except (Exception, SystemExit) as exc:  # meshio raises many types for unreadable files
+        text = chatter.getvalue() if isinstance(exc, SystemExit) else str(exc)
+        why = "; ".join(" ".join(line.split()) for line in text.splitlines() if line.strip()) or type(exc).__name__
+        raise JobError(f"{source}: walls[{k}].file = {file!r}: cannot read the mesh ({why}); "
                        "give an STL, OBJ, VTU or other meshio-readable triangle mesh") from None
     tris = [mesh.points[c][:, :3].astype(float) for block in mesh.cells if block.type == "triangle"
             for c in block.data]
     if not tris:
-        raise JobError(f"{source}: walls[{k}].file = {file!r}: the mesh has no triangles")
+        raise JobError(f"{source}: walls[{k}].file = {file!r}: no triangles read from it; "
+                       "give an STL, OBJ, VTU or other meshio-readable triangle mesh")
     return tris

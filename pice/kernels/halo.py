@@ -1,0 +1,93 @@
+"""Pack/unpack kernels for the halo exchange and the gid -> local index resolution of bonds."""
+
+import numpy as np
+from numba import njit
+
+from . import JIT
+
+GHOST_DOUBLES = 9  # x, v, w of a ghost, sent every step
+
+
+@njit(**JIT)
+def pack_kinematics(x, v, w, idx, out):
+    """out[9k:9k+9] = (x, v, w) of particle idx[k]."""
+    for k in range(len(idx)):
+        i = idx[k]
+        o = 9 * k
+        for d in range(3):
+            out[o + d] = x[i, d]
+            out[o + 3 + d] = v[i, d]
+            out[o + 6 + d] = w[i, d]
+
+
+@njit(**JIT)
+def unpack_kinematics(buf, x, v, w, start):
+    """Write consecutive (x, v, w) records of ``buf`` into rows start, start+1, ..."""
+    n = len(buf) // 9
+    for k in range(n):
+        i = start + k
+        o = 9 * k
+        for d in range(3):
+            x[i, d] = buf[o + d]
+            v[i, d] = buf[o + 3 + d]
+            w[i, d] = buf[o + 6 + d]
+
+
+@njit(**JIT)
+def resolve_bond_partners(gid, nlocal, bond_gid, bond_j):
+    """bond_j[i, s] = local index of partner gid bond_gid[i, s] for owned i (searching owned + ghosts).
+
+    Returns (number of partners not found, an owned gid with a missing partner or -1, that partner).
+    """
+    order = np.argsort(gid)
+    sorted_gid = gid[order]
+    missing = 0
+    who = -1
+    partner = -1
+    for i in range(nlocal):
+        for s in range(bond_gid.shape[1]):
+            g = bond_gid[i, s]
+            if g < 0:
+                bond_j[i, s] = -1
+                continue
+            k = np.searchsorted(sorted_gid, g)
+            if k < len(sorted_gid) and sorted_gid[k] == g:
+                bond_j[i, s] = order[k]
+            else:
+                bond_j[i, s] = -1
+                missing += 1
+                who = gid[i]
+                partner = g
+    return missing, who, partner
+
+
+@njit(**JIT)
+def max_displacement(x, x_ref, n):
+    """Largest |x - x_ref| over the first n rows [m]."""
+    worst = 0.0
+    for i in range(n):
+        d0 = x[i, 0] - x_ref[i, 0]
+        d1 = x[i, 1] - x_ref[i, 1]
+        d2 = x[i, 2] - x_ref[i, 2]
+        d = d0 * d0 + d1 * d1 + d2 * d2
+        if d > worst:
+            worst = d
+    return np.sqrt(worst)
+
+
+@njit(**JIT)
+def longest_bond(x, nlocal, bond_j):
+    """Length of the longest intact bond of an owned particle [m] (partners must be resolved)."""
+    worst = 0.0
+    for i in range(nlocal):
+        for s in range(bond_j.shape[1]):
+            j = bond_j[i, s]
+            if j < 0:
+                continue
+            d0 = x[j, 0] - x[i, 0]
+            d1 = x[j, 1] - x[i, 1]
+            d2 = x[j, 2] - x[i, 2]
+            d = d0 * d0 + d1 * d1 + d2 * d2
+            if d > worst:
+                worst = d
+    return np.sqrt(worst)

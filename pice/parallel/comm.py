@@ -1,0 +1,135 @@
+"""A small communicator interface: mpi4py's COMM_WORLD under a launcher, a serial stand-in otherwise."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+_LAUNCHER_VARS = ("PMI_SIZE", "PMI_RANK", "OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS")
+
+
+def launched_by_mpi() -> bool:
+    """True when an MPI launcher (mpiexec/srun) started this process."""
+    return any(v in os.environ for v in _LAUNCHER_VARS)
+
+
+class SerialComm:
+    """The size-1 communicator: every collective is the identity."""
+
+    rank = 0
+    size = 1
+
+    def sum(self, value):
+        return value
+
+    def max(self, value):
+        return value
+
+    def min(self, value):
+        return value
+
+    def bcast(self, obj):
+        return obj
+
+    def reduce_sum(self, array):
+        return array.copy()
+
+    def bcast_array(self, array):
+        return array
+
+    def gather(self, obj):
+        return [obj]
+
+    def alltoall(self, objs):
+        return list(objs)
+
+    def exchange_doubles(self, sendbuf, sendcounts):
+        return sendbuf.copy(), np.asarray(sendcounts)
+
+    def barrier(self):
+        pass
+
+    def abort(self, code: int = 1):
+        raise SystemExit(code)
+
+
+class MPIComm:
+    """COMM_WORLD through mpi4py: numpy-buffer collectives for the step, pickled ones for set-up."""
+
+    def __init__(self):
+        from mpi4py import MPI
+
+        self._MPI = MPI
+        self.comm = MPI.COMM_WORLD
+        self.rank = self.comm.Get_rank()
+        self.size = self.comm.Get_size()
+
+    def _reduce(self, value, op):
+        if isinstance(value, np.ndarray):
+            out = np.empty_like(value)
+            self.comm.Allreduce(np.ascontiguousarray(value), out, op=op)
+            return out
+        return self.comm.allreduce(value, op=op)
+
+    def sum(self, value):
+        return self._reduce(value, self._MPI.SUM)
+
+    def max(self, value):
+        return self._reduce(value, self._MPI.MAX)
+
+    def min(self, value):
+        return self._reduce(value, self._MPI.MIN)
+
+    def bcast(self, obj):
+        return self.comm.bcast(obj, root=0)
+
+    def reduce_sum(self, array):
+        """Sum of a float64 array over ranks, on rank 0 (None elsewhere)."""
+        array = np.ascontiguousarray(array, dtype=np.float64)
+        out = np.empty_like(array) if self.rank == 0 else None
+        self.comm.Reduce(array, out, op=self._MPI.SUM, root=0)
+        return out
+
+    def bcast_array(self, array):
+        """Rank 0's float64 array on every rank (in place on the others)."""
+        array = np.ascontiguousarray(array, dtype=np.float64)
+        self.comm.Bcast(array, root=0)
+        return array
+
+    def gather(self, obj):
+        return self.comm.gather(obj, root=0)
+
+    def alltoall(self, objs):
+        return self.comm.alltoall(list(objs))
+
+    def exchange_doubles(self, sendbuf, sendcounts):
+        """Alltoallv of float64 blocks: block k of sendbuf (sendcounts[k] doubles) goes to rank k.
+
+        Returns (recvbuf, recvcounts); blocks arrive ordered by source rank.
+        """
+        sendcounts = np.ascontiguousarray(sendcounts, dtype=np.int64)
+        recvcounts = np.empty_like(sendcounts)
+        self.comm.Alltoall(sendcounts, recvcounts)
+        sdispl = np.concatenate([[0], np.cumsum(sendcounts)[:-1]])
+        rdispl = np.concatenate([[0], np.cumsum(recvcounts)[:-1]])
+        recvbuf = np.empty(int(recvcounts.sum()))
+        D = self._MPI.DOUBLE
+        self.comm.Alltoallv([np.ascontiguousarray(sendbuf), (sendcounts, sdispl), D],
+                            [recvbuf, (recvcounts, rdispl), D])
+        return recvbuf, recvcounts
+
+    def barrier(self):
+        self.comm.Barrier()
+
+    def abort(self, code: int = 1):
+        self.comm.Abort(code)
+
+
+def world():
+    """The communicator of this process: MPI when launched by mpiexec with more than one rank."""
+    if launched_by_mpi():
+        comm = MPIComm()
+        if comm.size > 1:
+            return comm
+    return SerialComm()
