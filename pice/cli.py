@@ -72,6 +72,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     from .errors import PiceError
+    from .log import configure
+
+    configure()
 
     try:
         return args.func(args)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
+from time import perf_counter
 
 import numpy as np
 
@@ -81,6 +82,7 @@ class Simulation:
         self.limit = self._time_step()
         self.dt = self.limit.chosen
         self.c = Counters()
+        self.wall_clock = {"exchange": 0.0, "forces": 0.0}  # seconds spent per phase (for mpi/scaling.py)
         self._events = np.zeros((MAX_EVENTS, 4), dtype=np.int64)
         self._distribute()
         self.compute_forces()
@@ -203,15 +205,12 @@ class Simulation:
 
     def _time_step(self):
         p, b = self.p, self.bond
-        bonded = 6 if self.sheet.n_layers == 1 else 12
-        springs = [("bond", b.kn, b.ks, max(b.kb, b.kt))]
-        if self.contact_params[0] > 0:
-            springs.append(("contact", self.contact_params[0], self.contact_params[1], 0.0))
         kw = float(self.wall_params[:, 0].max()) if len(self.wall_params) else 0.0
         i = int(np.argmin(p.mass))
-        zeta = max(b.damping_ratio, float(self.contact_params[2]))
-        stable, why = stable_step(mass=float(p.mass[i]), inertia=float(p.inertia[i]), radius=float(p.radius[i]),
-                                  coordination=bonded, springs=springs, wall_stiffness=kw, damping_ratio=zeta)
+        stable, why = stable_step(mass=float(p.mass[i]), inertia=float(p.inertia[i]), d=self.sheet.spacing,
+                                  n_layers=self.sheet.n_layers, bond=(b.kn, b.ks, b.kt, b.kb),
+                                  contact=(float(self.contact_params[0]), float(self.contact_params[1])),
+                                  wall_stiffness=kw, damping_ratio=b.damping_ratio)
         run = self.job.run
         return choose_step(requested=run.dt, safety=run.dt_safety, stable=stable, governed_by=why,
                            allow_unstable=run.allow_unstable_dt, source=self.job.source)
@@ -250,8 +249,12 @@ class Simulation:
         drift(p.nlocal, p.x, p.v, dt)
         self.c.step += 1
         self.c.time = self.c.step * dt
+        t0 = perf_counter()
         self.exchange()
+        t1 = perf_counter()
         self.compute_forces()
+        self.wall_clock["exchange"] += t1 - t0
+        self.wall_clock["forces"] += perf_counter() - t1
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
 
     def advance(self, nsteps: int) -> None:

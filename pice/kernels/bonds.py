@@ -49,10 +49,10 @@ def bond_update(a, b, x, v, w, radius, L0, hist, params, dt, out_force, out_mome
     """
     h3 = hist.reshape((1, 1, hist.shape[0]))
     r = _bond_core(a, b, x, v, w, radius, L0, h3, 0, 0, params, dt)
-    for k in range(3):
-        out_force[k] = r[1 + k]
-        out_moment_a[k] = r[4 + k]
-        out_moment_b[k] = r[7 + k]
+    # r mixes an int and floats: numba can index such a tuple with constants only
+    out_force[0], out_force[1], out_force[2] = r[1], r[2], r[3]
+    out_moment_a[0], out_moment_a[1], out_moment_a[2] = r[4], r[5], r[6]
+    out_moment_b[0], out_moment_b[1], out_moment_b[2] = r[7], r[8], r[9]
     return r[0]
 
 

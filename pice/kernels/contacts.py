@@ -17,6 +17,16 @@ from . import JIT
 
 
 @njit(**JIT)
+def _cell_index(q, dim):
+    """Cell index of the scaled coordinate q along one axis, clamped to [0, dim - 1] (0 for NaN)."""
+    if q >= dim - 1:
+        return dim - 1
+    if q > 0.0:
+        return int(q)
+    return 0
+
+
+@njit(**JIT)
 def build_cell_list(x, n, cell_size):
     """Bin the first ``n`` positions into cubic cells of edge ``cell_size`` [m] (counting sort, O(n)).
 
@@ -41,9 +51,10 @@ def build_cell_list(x, n, cell_size):
     size = cell_size
     dims = np.empty(3, dtype=np.int64)
     while True:
-        total = 1
+        total = 1.0  # float: a runaway extent must not overflow the cell count before the health check
         for k in range(3):
-            dims[k] = max(1, int((hi[k] - lo[k]) / size) + 1)
+            span = (hi[k] - lo[k]) / size
+            dims[k] = int(span) + 1 if 0.0 < span < 1e15 else 1  # one cell along k if non-finite or absurd
             total *= dims[k]
         if total <= 8 * n + 64:
             break
@@ -52,9 +63,9 @@ def build_cell_list(x, n, cell_size):
     count = np.zeros(ncell + 1, dtype=np.int64)
     cell_of = np.empty(n, dtype=np.int64)
     for i in range(n):
-        cx = min(int((x[i, 0] - lo[0]) / size), dims[0] - 1)
-        cy = min(int((x[i, 1] - lo[1]) / size), dims[1] - 1)
-        cz = min(int((x[i, 2] - lo[2]) / size), dims[2] - 1)
+        cx = _cell_index((x[i, 0] - lo[0]) / size, dims[0])
+        cy = _cell_index((x[i, 1] - lo[1]) / size, dims[1])
+        cz = _cell_index((x[i, 2] - lo[2]) / size, dims[2])
         c = (cz * dims[1] + cy) * dims[0] + cx
         cell_of[i] = c
         count[c + 1] += 1
@@ -101,9 +112,9 @@ def contact_forces(nlocal, ntotal, gid, x, v, w, radius, mass, bond_j, cgid, sta
     n = np.empty(3)
     ft = np.empty(3)
     for i in range(nlocal):
-        cx = min(int((x[i, 0] - origin[0]) / size), dims[0] - 1)
-        cy = min(int((x[i, 1] - origin[1]) / size), dims[1] - 1)
-        cz = min(int((x[i, 2] - origin[2]) / size), dims[2] - 1)
+        cx = _cell_index((x[i, 0] - origin[0]) / size, dims[0])
+        cy = _cell_index((x[i, 1] - origin[1]) / size, dims[1])
+        cz = _cell_index((x[i, 2] - origin[2]) / size, dims[2])
         for dz in range(-1, 2):
             z = cz + dz
             if z < 0 or z >= dims[2]:

@@ -1,0 +1,31 @@
+"""Rank-tagged logging: rank 0 logs at INFO, the other ranks at WARNING, each line tagged."""
+
+from __future__ import annotations
+
+import logging
+import os
+import sys
+
+
+def launch_rank() -> int:
+    """This process's MPI rank from the launcher's environment (0 when not launched by MPI)."""
+    for var in ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "PMIX_RANK", "SLURM_PROCID"):
+        if var in os.environ:
+            try:
+                return int(os.environ[var])
+            except ValueError:
+                pass
+    return 0
+
+
+def configure(level: int | None = None) -> logging.Logger:
+    """Set up the 'pice' logger once: '[rank R] message' on stderr."""
+    rank = launch_rank()
+    log = logging.getLogger("pice")
+    if not log.handlers:
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(logging.Formatter(f"pice [rank {rank}] %(levelname)s: %(message)s"))
+        log.addHandler(handler)
+        log.propagate = False
+    log.setLevel(level if level is not None else (logging.INFO if rank == 0 else logging.WARNING))
+    return log
