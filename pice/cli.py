@@ -78,12 +78,24 @@ def main(argv=None) -> int:
 
     try:
         return args.func(args)
-    except PiceError as exc:
-        print(f"pice: error: {exc}" if not hasattr(exc, "lines") else str(exc), file=sys.stderr)
+    except PiceError as exc:  # raised on every rank alike (checks are collective): rank 0 reports
+        from .log import launch_rank
+
+        if launch_rank() == 0:
+            print(f"pice: error: {exc}" if not hasattr(exc, "lines") else str(exc), file=sys.stderr)
         return exc.exit_code
     except KeyboardInterrupt:
         print("pice: interrupted; the run file keeps every row written so far", file=sys.stderr)
         return 130
+    except Exception:  # a bug: show it, and under MPI take the other ranks down with this one
+        import traceback
+
+        from .parallel.comm import abort_all
+
+        traceback.print_exc()
+        sys.stderr.flush()
+        abort_all(1)
+        return 1
 
 
 if __name__ == "__main__":

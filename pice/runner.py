@@ -94,8 +94,9 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress=sys
         if 0 in snaps:
             out.snapshot(snap_index)
             snap_index += 1
+        first_break = job.run.stop_at_first_break
         while sim.c.step < total:
-            n = min(every - sim.c.step % every, total - sim.c.step)
+            n = 1 if first_break else min(every - sim.c.step % every, total - sim.c.step)
             nxt = [s for s in snaps if sim.c.step < s <= sim.c.step + n]
             if nxt:
                 n = min(nxt) - sim.c.step
@@ -106,7 +107,7 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress=sys
             if sim.c.step in snaps:
                 out.snapshot(snap_index)
                 snap_index += 1
-            if job.run.stop_at_first_break and comm.sum(sim.c.broken):
+            if first_break and comm.sum(sim.c.broken):
                 out.series()
                 out.events()
                 out.snapshot(snap_index)

@@ -210,7 +210,8 @@ class Simulation:
         stable, why = stable_step(mass=float(p.mass[i]), inertia=float(p.inertia[i]), d=self.sheet.spacing,
                                   n_layers=self.sheet.n_layers, bond=(b.kn, b.ks, b.kt, b.kb),
                                   contact=(float(self.contact_params[0]), float(self.contact_params[1])),
-                                  wall_stiffness=kw, damping_ratio=b.damping_ratio)
+                                  wall_stiffness=kw, damping_ratio=b.damping_ratio,
+                                  contact_damping_ratio=float(self.contact_params[2]))
         run = self.job.run
         return choose_step(requested=run.dt, safety=run.dt_safety, stable=stable, governed_by=why,
                            allow_unstable=run.allow_unstable_dt, source=self.job.source)

@@ -4,7 +4,12 @@ Issue claim: "At 0.9 of the stability limit the run stays bounded; at 2x it is r
 explicit override it stops with the diagnostic, never with NaN in the output."
 
 Reference: velocity Verlet on a linear system is stable iff dt < 2 / omega_max, omega_max^2 the
-largest eigenvalue of M^-1 K (physics/timestep.py bounds it by Gershgorin). The tests use a small
+largest eigenvalue of M^-1 K (physics/timestep.py computes it on a periodic patch of the lattice,
+each link carrying the stiffer of the bond and contact springs and the stronger dashpot). The
+tests use contact springs no stiffer than the bonds and undamped contacts (restitution 1), so the
+limit is exactly the intact sheet's; with the default contact (tangential spring 0.5 k_n,
+restitution 0.3) the limit is deliberately lower, because contacts can replace broken bonds --
+test_default_contacts_lower_the_limit_safely checks that case. The tests use a small
 floating, bonded sheet (8 m x 6 m, E = 1 GPa, water and gravity on) disturbed by random velocities
 (fixed seed; for runs through pice.runner.run_job the runner's Simulation is swapped for a
 subclass that applies the same disturbance). ``_true_limit`` computes 2 / omega_max of that sheet
@@ -32,13 +37,15 @@ from pice.simulation import Simulation
 SEED = 20240611
 
 
-def _job(dt="auto", *, allow=False, duration=100.0):
+def _job(dt="auto", *, allow=False, duration=100.0, default_contact=False):
+    contact = {} if default_contact else {"stiffness_ratio": 0.03, "restitution": 1.0}
     return parse_job({
         "run": {"duration": duration, "dt": dt, "allow_unstable_dt": allow, "series_every": 50,
                 "snapshots": 2},
         "water": {"density": 1035.0},
         "ice": {"length": 8.0, "width": 6.0, "density": 920.0, "youngs_modulus": 1e9, "poissons_ratio": 0.3},
         "bond": {"breakable": False},
+        "contact": contact,
     })
 
 
@@ -99,6 +106,14 @@ def test_bound_is_a_true_bound():
     sim = Simulation(_job())
     true = _true_limit(sim)
     assert sim.limit.stable <= true < 2.0 * sim.limit.stable
+
+
+def test_default_contacts_lower_the_limit_safely():
+    """With the default contact (stiffer tangential spring than the bond's, damped normal), the limit
+    stays below the intact sheet's true limit, and not absurdly so (< 4x: measured 2.4x)."""
+    sim = Simulation(_job(default_contact=True))
+    true = _true_limit(sim)
+    assert sim.limit.stable <= true < 4.0 * sim.limit.stable
 
 
 def test_lattice_eigenvalue_matches_the_assembled_sheet():

@@ -133,3 +133,12 @@ def world():
         if comm.size > 1:
             return comm
     return SerialComm()
+
+
+def abort_all(code: int = 1) -> None:
+    """End every rank of an MPI job (one rank failing alone must not leave the others waiting)."""
+    if launched_by_mpi():
+        from mpi4py import MPI
+
+        if MPI.Is_initialized() and MPI.COMM_WORLD.Get_size() > 1:
+            MPI.COMM_WORLD.Abort(code)

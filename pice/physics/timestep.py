@@ -6,7 +6,10 @@ of the lattice, so we compute it exactly on a small periodic patch of the same p
 neighbour link carries the stiffer of the bond and the contact springs in each direction (normal
 k_n, shear k_s at the contact point, twisting and bending), so the limit also holds once bonds
 have broken and contacts have taken their place. A wall adds at most k_wall/m (Weyl's inequality).
-Dashpots at damping ratio zeta shrink the limit by (sqrt(1 + zeta^2) - zeta).
+Dashpots shrink the limit: with damping rates up to c_max (the largest eigenvalue of M^-1 C, C the
+bond dashpots assembled like K) the step is stable when omega_max^2 dt^2 / 4 + c_max dt / 2 < 1, i.e.
+for zeta = c_max / (2 omega_max). The bond dashpots are set at ``damping_ratio`` of critical for one
+bond between two free elements, so the lattice's highest modes see a zeta several times larger.
 
 dt_stable = 2 / omega_max * (sqrt(1 + zeta^2) - zeta); `dt = "auto"` uses ``run.dt_safety``
 (default 0.5) of it. Assumption: no element gains more contacts than it had lattice neighbours
@@ -82,17 +85,30 @@ def lattice_omega_max(*, n_layers: int, d: float, mass: float, inertia: float, k
 
 
 def stable_step(*, mass: float, inertia: float, d: float, n_layers: int, bond, contact,
-                wall_stiffness: float = 0.0, damping_ratio: float = 0.0) -> tuple[float, str]:
-    """Stability limit [s] of the lattice with, per link, the stiffer of bond and contact springs.
+                wall_stiffness: float = 0.0, damping_ratio: float = 0.0,
+                contact_damping_ratio: float = 0.0) -> tuple[float, str]:
+    """Stability limit [s] of the lattice with, per link, the stiffer of bond and contact springs
+    and the stronger of their dashpots.
 
-    bond: (k_n, k_s, k_twist, k_bend); contact: (k_n, k_t). Returns (limit, what governs it).
+    bond: (k_n, k_s, k_twist, k_bend); contact: (k_n, k_t); damping ratios of the bond dashpots and
+    of the contact's normal dashpot (from its restitution). Returns (limit, what governs it).
     """
     kn = max(bond[0], contact[0])
     ks = max(bond[1], contact[1])
     omega = lattice_omega_max(n_layers=n_layers, d=d, mass=mass, inertia=inertia, kn=kn, ks=ks,
                               kt=bond[2], kb=bond[3])
     omega = math.sqrt(omega ** 2 + wall_stiffness / mass)
-    factor = math.sqrt(1.0 + damping_ratio ** 2) - damping_ratio
+    zeta = 0.0
+    if damping_ratio > 0.0 or contact_damping_ratio > 0.0:
+        # the bond dashpots of BondParams.as_array and the contact's normal dashpot (kernels.contacts),
+        # assembled like the springs
+        z, m_red, i_red = damping_ratio, 0.5 * mass, 0.5 * inertia
+        cn = max(2 * z * math.sqrt(m_red * bond[0]), 2 * contact_damping_ratio * math.sqrt(m_red * contact[0]))
+        c_max = lattice_omega_max(n_layers=n_layers, d=d, mass=mass, inertia=inertia,
+                                  kn=cn, ks=2 * z * math.sqrt(m_red * bond[1]),
+                                  kt=2 * z * math.sqrt(i_red * bond[2]), kb=2 * z * math.sqrt(i_red * bond[3])) ** 2
+        zeta = c_max / (2.0 * omega)
+    factor = math.sqrt(1.0 + zeta ** 2) - zeta
     parts = []
     parts.append("bond" if bond[0] >= contact[0] else "contact")
     if ks > bond[1]:
