@@ -3,8 +3,8 @@
 Run on N ranks:   .venv/bin/mpiexec -n N .venv/bin/python mpi/scaling.py [--steps 500]
 Or all at once:   .venv/bin/python mpi/scaling.py --sweep 1,2,4,8   (launches each N itself)
 
-Prints particle-steps per second (total and per rank), the share of wall time spent in the halo
-exchange and collectives, and, in a sweep, the parallel efficiency against the 1-rank run. On this
+Prints particle-steps per second (total and per rank; the fastest of --repeat timed blocks), the
+share of wall time spent in the halo exchange and collectives (including waiting for the slowest rank), and, in a sweep, the parallel efficiency against the 1-rank run. On this
 2-core machine, 4 and 8 ranks are oversubscribed: their throughput is meaningless, but their
 communication share is a planning figure for a cluster.
 """
@@ -22,7 +22,7 @@ import time
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
-def measure(steps: int, warmup: int, length: float, width: float) -> None:
+def measure(steps: int, warmup: int, length: float, width: float, repeat: int) -> None:
     from pice.job import parse_job
     from pice.parallel.comm import world
     from pice.simulation import Simulation
@@ -38,15 +38,20 @@ def measure(steps: int, warmup: int, length: float, width: float) -> None:
     }, source="scaling")
     sim = Simulation(job, comm=comm)
     sim.advance(warmup)
-    for k in sim.wall_clock:
-        sim.wall_clock[k] = 0.0
-    comm.barrier()
-    t0 = time.perf_counter()
-    sim.advance(steps)
-    comm.barrier()
-    elapsed = time.perf_counter() - t0
+    best = None
+    for _ in range(repeat):  # the fastest of `repeat` blocks: the machine is shared and noisy
+        for k in sim.wall_clock:
+            sim.wall_clock[k] = 0.0
+        comm.barrier()
+        t0 = time.perf_counter()
+        sim.advance(steps)
+        comm.barrier()
+        elapsed = comm.max(time.perf_counter() - t0)
+        exchange = comm.max(sim.wall_clock["exchange"])
+        if best is None or elapsed < best[0]:
+            best = (elapsed, exchange)
+    elapsed, exchange = best
     n = comm.sum(sim.p.nlocal)
-    exchange = comm.max(sim.wall_clock["exchange"])
     ghosts = comm.sum(sim.p.n - sim.p.nlocal)
     if comm.rank == 0:
         rate = n * steps / elapsed
@@ -54,13 +59,13 @@ def measure(steps: int, warmup: int, length: float, width: float) -> None:
               f"rate={rate:.4e} per_rank={rate / comm.size:.4e} comm_share={exchange / elapsed:.3f}")
 
 
-def sweep(counts: list[int], steps: int, length: float, width: float) -> None:
+def sweep(counts: list[int], steps: int, length: float, width: float, repeat: int) -> None:
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PMI_", "HYDRA_", "OMPI_", "PMIX_"))}
     bindir = pathlib.Path(sys.executable).parent
     rates = {}
     for n in counts:
         cmd = [str(bindir / "mpiexec"), "-n", str(n), sys.executable, __file__, "--steps", str(steps),
-               "--length", str(length), "--width", str(width)]
+               "--length", str(length), "--width", str(width), "--repeat", str(repeat)]
         out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout
         line = [ln for ln in out.splitlines() if ln.startswith("ranks=")][-1]
         print(line + ("  (oversubscribed)" if n > (os.cpu_count() or 1) else ""), flush=True)
@@ -77,12 +82,13 @@ def main() -> None:
     ap.add_argument("--warmup", type=int, default=20)
     ap.add_argument("--length", type=float, default=400.0)
     ap.add_argument("--width", type=float, default=200.0)
+    ap.add_argument("--repeat", type=int, default=3, help="timed blocks of --steps; the fastest counts")
     ap.add_argument("--sweep", help="comma-separated rank counts to launch, e.g. 1,2,4,8")
     args = ap.parse_args()
     if args.sweep:
-        sweep([int(c) for c in args.sweep.split(",")], args.steps, args.length, args.width)
+        sweep([int(c) for c in args.sweep.split(",")], args.steps, args.length, args.width, args.repeat)
     else:
-        measure(args.steps, args.warmup, args.length, args.width)
+        measure(args.steps, args.warmup, args.length, args.width, args.repeat)
 
 
 if __name__ == "__main__":

@@ -57,6 +57,7 @@ class _Output:
             self.file.append_events(merged)
 
     def snapshot(self, index):
+        self.sim.sync()
         p = self.sim.p
         n = p.nlocal
         part = dict(gid=p.gid[:n].copy(), x=p.x[:n].copy(), v=p.v[:n].copy(), w=p.w[:n].copy(),

@@ -16,7 +16,7 @@ from time import perf_counter
 import numpy as np
 
 from .errors import InstabilityError
-from .kernels.bonds import bond_energy, bond_forces
+from .kernels.bonds import bond_energy, bond_forces, sync_mate_history
 from .kernels.contacts import contact_forces
 from .kernels.hydro import buoyancy_potential
 from .kernels.integrate import drift, kick, max_step_displacement
@@ -289,6 +289,11 @@ class Simulation:
             f"{np.array2string(p.x[i], precision=3)} m shows {what}; likely cause: {cause}")
 
     # -- diagnostics ---------------------------------------------------------------------------
+    def sync(self) -> None:
+        """Bring both copies of every owned bond's history up to date (before output or inspection)."""
+        p = self.p
+        sync_mate_history(p.nlocal, p.gid, p.bond_j, p.bond_mate, p.bond_hist)
+
     def energies(self) -> dict[str, float]:
         """Energy budget [J] of the owned particles."""
         p, n = self.p, self.p.nlocal

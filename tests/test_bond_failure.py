@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 from pice.job import parse_job
-from pice.kernels.bonds import bond_forces, bond_update
+from pice.kernels.bonds import sync_mate_history, bond_forces, bond_update
 from pice.physics.bond import bond_params_from_job, eq6_bond_strength, eq7_bond_friction
 from pice.simulation import Simulation
 from pice.state import BOND_HIST, MAX_BONDS
@@ -247,7 +247,9 @@ def test_kernel_newtons_third_law_and_moment_balance(seed):
     total_moment = np.cross(x[0], force[0]) + np.cross(x[1], force[1]) + torque[0] + torque[1]
     scale = np.linalg.norm(x, axis=1).max() * np.linalg.norm(F) + np.abs(torque).max()
     assert np.linalg.norm(total_moment) <= 1e-9 * scale
-    # both copies of the history agree
+    # only the lower-gid copy advances in the step; sync_mate_history makes both copies agree
+    assert not np.array_equal(bond_hist[0, 0], bond_hist[1, 2])
+    sync_mate_history(2, gid, bond_j, bond_mate, bond_hist)
     np.testing.assert_array_equal(bond_hist[0, 0], bond_hist[1, 2])
     # and the same through the bare kernel
     f, ma, mb = np.zeros(3), np.zeros(3), np.zeros(3)

@@ -2,8 +2,10 @@
 
 Every bond is evaluated in its canonical orientation (a = lower gid, b = higher gid), so any rank
 holding either end computes the same numbers to the last bit and breaks the bond at the same step.
-A bond whose both ends are owned is evaluated once (from the lower-gid end) and both copies of its
-history are written; a bond to a ghost is evaluated by each rank for its own end.
+A bond whose both ends are owned is evaluated once, from the lower-gid end, whose copy of the history
+is then the current one; ``sync_mate_history`` brings the other copy up to date before it can be
+read (before particles migrate, and before output). A bond to a ghost is evaluated by each rank for
+its own end, each on its own copy.
 
 params (float64 array, see physics.bond.BondParams.as_array):
     0 kn [N/m]  1 ks [N/m]  2 kt [N m/rad]  3 kb [N m/rad]  4 A [m^2]  5 I [m^4]  6 J [m^4]
@@ -170,10 +172,7 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
                 torque[i, 0] += r[7]
                 torque[i, 1] += r[8]
                 torque[i, 2] += r[9]
-            if j_owned:  # i is a: write b's copy of the history and its force
-                m = bond_mate[i, s]
-                for k in range(8):
-                    bond_hist[j, m, k] = bond_hist[i, s, k]
+            if j_owned:  # i is a: b's force (b's copy of the history is synced by sync_mate_history)
                 force[j, 0] -= f0
                 force[j, 1] -= f1
                 force[j, 2] -= f2
@@ -201,3 +200,20 @@ def bond_energy(nlocal, gid, bond_gid, bond_hist, params):
             if kb > 0:
                 e += 0.5 * (h[4] * h[4] + h[5] * h[5] + h[6] * h[6]) / kb
     return e
+
+
+@njit(**JIT)
+def sync_mate_history(nlocal, gid, bond_j, bond_mate, bond_hist):
+    """Copy the history of every bond between two owned particles from its lower-gid end to the other.
+
+    Only the lower-gid end's copy is advanced when both ends are owned (half the memory traffic);
+    call this before either copy may be read from the higher-gid side: before migration and output.
+    """
+    for i in range(nlocal):
+        for s in range(bond_j.shape[1]):
+            j = bond_j[i, s]
+            if j < 0 or j >= nlocal or gid[j] < gid[i]:
+                continue
+            m = bond_mate[i, s]
+            for k in range(bond_hist.shape[2]):
+                bond_hist[j, m, k] = bond_hist[i, s, k]

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import PiceError
+from ..kernels.bonds import sync_mate_history
 from ..kernels.halo import (GHOST_DOUBLES, longest_bond, max_displacement, pack_kinematics,
                             resolve_bond_partners, unpack_kinematics)
 from .decomposition import Decomposition
@@ -41,13 +42,14 @@ class Halo:
         """Migrate owned particles to their owners, then gather fresh ghosts and resolve bonds."""
         comm = self.comm
         if comm.size > 1:
+            sync_mate_history(p.nlocal, p.gid, p.bond_j, p.bond_mate, p.bond_hist)
             n = p.nlocal
             owner = self.decomp.owner(p.x[:n, 0], p.x[:n, 1])
-            outgoing = [p.rows(np.nonzero(owner == r)[0]) for r in range(comm.size)]
+            stay = p.rows(np.nonzero(owner == comm.rank)[0])  # kept in place, not sent to ourselves
+            outgoing = [p.rows(np.nonzero(owner == r)[0]) if r != comm.rank else None
+                        for r in range(comm.size)]
             incoming = comm.alltoall(outgoing)
-            local = [blk for blk in incoming if len(blk["gid"])]
-            if not local:
-                local = [p.rows(np.zeros(0, np.int64))]
+            local = [stay] + [blk for r, blk in enumerate(incoming) if r != comm.rank and len(blk["gid"])]
             # owned particles in gid order: the layout is then the same whatever the history
             merged = {k: np.concatenate([blk[k] for blk in local]) for k in local[0]}
             order = np.argsort(merged["gid"], kind="stable")
@@ -55,9 +57,11 @@ class Halo:
             nlocal = len(merged["gid"])
             targets = self._ghost_targets(merged["x"])
             self.send_idx = targets
-            ghost_blocks = comm.alltoall([{k: v[idx] for k, v in merged.items()} for idx in targets])
+            ghost_blocks = comm.alltoall([{k: v[idx] for k, v in merged.items()} if len(idx) else None
+                                          for idx in targets])
+            ghost_blocks = [b for b in ghost_blocks if b is not None]
             self.recv_counts = np.array([len(b["gid"]) for b in ghost_blocks], np.int64)
-            p.replace_rows([merged] + list(ghost_blocks), nlocal)
+            p.replace_rows([merged] + ghost_blocks, nlocal)
         self.resolve(p)
         self.x_ref = p.x[:p.nlocal].copy()
         self.rebuilds += 1
