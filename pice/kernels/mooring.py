@@ -1,0 +1,172 @@
+"""DEM mooring lines: chains of nodes joined by axial bonds without bending stiffness (000_..., 2.3).
+
+Each node stands for a piece of line of length dl (half pieces at the ends). Per node:
+- axial bonds to its neighbours: tension EA (l - l0)/l0 when stretched, nothing in compression
+  (a chain or wire goes slack), plus an axial dashpot at a damping ratio of the bond;
+- weight in water (wet weight per length x dl) and Morison loads (Eq. 8 of Zhu & Ji 2022, for a
+  cylinder piece instead of a sphere): normal drag 1/2 rho C_dn D dl |v_n| v_n, tangential drag
+  1/2 rho C_dt pi D dl |v_t| v_t, and added mass C_a rho pi D^2/4 dl on the normal acceleration;
+- seabed contact below z = seabed: a penalty spring and dashpot, Coulomb friction (regularised).
+Node kinds: 0 free, 1 fixed (anchor), 2 prescribed (fairlead, moved with its body).
+
+Arrays: x, v (n, 3); mass (n,) dry mass [kg]; prev (n,) index of the previous node on the line or -1;
+seg (n,) segment index of the bond from prev to this node; props (n_seg, 8):
+[EA [N], l0 [m], D [m], wet weight [N/m], C_dn, C_dt, C_a, bond damping ratio].
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import JIT
+
+FREE, FIXED, PRESCRIBED = 0, 1, 2
+
+
+@njit(**JIT)
+def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass):
+    """Forces on every node [N]; bond tensions [N] stored at the bond's upper node; added mass [kg].
+
+    water: (rho_w [kg/m^3], level [m]); current: (3,) [m/s];
+    seabed: (z_bed [m], k_bed [N/m per m of line], zeta_bed, mu_bed, v_slip [m/s]).
+    """
+    n = x.shape[0]
+    rho = water[0]
+    for i in range(n):
+        force[i, 0] = 0.0
+        force[i, 1] = 0.0
+        force[i, 2] = 0.0
+        tension[i] = 0.0
+        added_mass[i] = 0.0
+    tangent = np.zeros((n, 3))
+    length = np.zeros(n)  # line length represented by each node [m]
+    # axial bonds
+    for i in range(n):
+        p = prev[i]
+        if p < 0:
+            continue
+        s = seg[i]
+        ea, l0, zeta = props[s, 0], props[s, 1], props[s, 7]
+        d0 = x[i, 0] - x[p, 0]
+        d1 = x[i, 1] - x[p, 1]
+        d2 = x[i, 2] - x[p, 2]
+        l = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        u0, u1, u2 = d0 / l, d1 / l, d2 / l
+        k = ea / l0
+        t = k * (l - l0) if l > l0 else 0.0
+        if zeta > 0.0 and l > l0:
+            m_red = mass[i] * mass[p] / (mass[i] + mass[p])
+            rate = (v[i, 0] - v[p, 0]) * u0 + (v[i, 1] - v[p, 1]) * u1 + (v[i, 2] - v[p, 2]) * u2
+            t += 2.0 * zeta * math.sqrt(k * m_red) * rate
+        tension[i] = t
+        force[p, 0] += t * u0
+        force[p, 1] += t * u1
+        force[p, 2] += t * u2
+        force[i, 0] -= t * u0
+        force[i, 1] -= t * u1
+        force[i, 2] -= t * u2
+        for node in (p, i):
+            tangent[node, 0] += u0
+            tangent[node, 1] += u1
+            tangent[node, 2] += u2
+            length[node] += 0.5 * l0
+    # weight, Morison loads and seabed per node (properties of the bond below, or above at the end)
+    z_bed, k_bed, zeta_bed, mu_bed, v_slip = seabed[0], seabed[1], seabed[2], seabed[3], seabed[4]
+    for i in range(n):
+        s = seg[i] if prev[i] >= 0 else -1
+        if s < 0:  # the first node: use the bond to the node above it
+            for j in range(n):
+                if prev[j] == i:
+                    s = seg[j]
+                    break
+        if s < 0:
+            continue
+        D, wet, cdn, cdt, ca = props[s, 2], props[s, 3], props[s, 4], props[s, 5], props[s, 6]
+        dl = length[i]
+        force[i, 2] -= wet * dl
+        tn = math.sqrt(tangent[i, 0] ** 2 + tangent[i, 1] ** 2 + tangent[i, 2] ** 2)
+        t0, t1, t2 = (tangent[i, 0] / tn, tangent[i, 1] / tn, tangent[i, 2] / tn) if tn > 0 else (0.0, 0.0, 1.0)
+        if x[i, 2] <= water[1]:
+            r0 = current[0] - v[i, 0]
+            r1 = current[1] - v[i, 1]
+            r2 = current[2] - v[i, 2]
+            rt = r0 * t0 + r1 * t1 + r2 * t2
+            n0, n1, n2 = r0 - rt * t0, r1 - rt * t1, r2 - rt * t2
+            vn = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+            cn = 0.5 * rho * cdn * D * dl * vn
+            ct = 0.5 * rho * cdt * math.pi * D * dl * abs(rt)
+            force[i, 0] += cn * n0 + ct * rt * t0
+            force[i, 1] += cn * n1 + ct * rt * t1
+            force[i, 2] += cn * n2 + ct * rt * t2
+            added_mass[i] = ca * rho * 0.25 * math.pi * D * D * dl
+        pen = z_bed - (x[i, 2] - 0.5 * D)
+        if k_bed > 0.0 and pen > 0.0:
+            kb = k_bed * dl
+            fn = kb * pen - 2.0 * zeta_bed * math.sqrt(kb * mass[i]) * v[i, 2]
+            if fn > 0.0:
+                force[i, 2] += fn
+                sx, sy = v[i, 0], v[i, 1]
+                sp = math.sqrt(sx * sx + sy * sy)
+                if sp > 0.0:
+                    f = mu_bed * fn * min(1.0, sp / v_slip) / sp
+                    force[i, 0] -= f * sx
+                    force[i, 1] -= f * sy
+
+
+@njit(**JIT)
+def accelerate(v, force, mass, added_mass, tangent_of, kind, half_dt):
+    """v += M^-1 F half_dt with the added mass acting on the normal direction only; fixed and
+    prescribed nodes are not integrated (their velocities are set by the caller)."""
+    n = v.shape[0]
+    for i in range(n):
+        if kind[i] != 0:
+            continue
+        t0, t1, t2 = tangent_of[i, 0], tangent_of[i, 1], tangent_of[i, 2]
+        ft = force[i, 0] * t0 + force[i, 1] * t1 + force[i, 2] * t2
+        m_n = mass[i] + added_mass[i]
+        for k in range(3):
+            fk_t = ft * tangent_of[i, k]
+            v[i, k] += half_dt * (fk_t / mass[i] + (force[i, k] - fk_t) / m_n)
+
+
+@njit(**JIT)
+def node_tangents(x, prev, out):
+    """Unit tangent at each node: the mean direction of its bonds."""
+    n = x.shape[0]
+    out[:] = 0.0
+    for i in range(n):
+        p = prev[i]
+        if p < 0:
+            continue
+        d = x[i] - x[p]
+        d = d / math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        out[p] += d
+        out[i] += d
+    for i in range(n):
+        m = math.sqrt(out[i, 0] ** 2 + out[i, 1] ** 2 + out[i, 2] ** 2)
+        if m > 0:
+            out[i] /= m
+
+
+@njit(**JIT)
+def advance_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
+                  tangent, fairleads, x_start, x_end, v_fairlead, dt, nsub):
+    """nsub velocity-Verlet sub-steps of dt [s]; the fairlead nodes move linearly from x_start to
+    x_end (n_lines, 3) [m] with velocity v_fairlead [m/s]; anchors stay fixed."""
+    n = x.shape[0]
+    for k in range(nsub):
+        accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
+        for i in range(n):
+            if kind[i] == 0:
+                for d in range(3):
+                    x[i, d] += dt * v[i, d]
+        a = (k + 1.0) / nsub
+        for j in range(fairleads.shape[0]):
+            f = fairleads[j]
+            for d in range(3):
+                x[f, d] = (1.0 - a) * x_start[j, d] + a * x_end[j, d]
+                v[f, d] = v_fairlead[j, d]
+        line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass)
+        node_tangents(x, prev, tangent)
+        accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)

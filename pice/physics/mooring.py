@@ -1,0 +1,169 @@
+"""DEM mooring lines on rank 0: construction, sub-stepping at the lines' own stable step, tensions.
+
+A line runs from its anchor to its fairlead through segments (Table 5 of Zhu & Ji 2022), each cut
+into elements of at most ``element_length``; the nodes start on the quasi-static elastic catenary
+(physics.catenary), so a line begins close to equilibrium.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..kernels.mooring import FIXED, FREE, PRESCRIBED, advance_lines, line_forces, node_tangents
+from .catenary import Segment, profile, solve_line
+
+
+@dataclass(frozen=True)
+class LineSegment:
+    """Physical properties of one segment of a mooring line (SI units)."""
+
+    length: float            # unstretched [m]
+    ea: float                # axial stiffness [N]
+    diameter: float          # equivalent hydrodynamic diameter D [m]
+    wet_weight: float        # weight in water per length [N/m]
+    dry_mass: float          # mass per length [kg/m]
+    drag_normal: float = 1.2
+    drag_tangential: float = 0.008
+    added_mass: float = 1.0
+
+
+@dataclass
+class MooringLines:
+    """All lines of a scene as one node set (kernels work on flat arrays)."""
+
+    x: np.ndarray
+    v: np.ndarray
+    mass: np.ndarray
+    prev: np.ndarray
+    seg: np.ndarray
+    kind: np.ndarray
+    props: np.ndarray
+    anchors: np.ndarray      # node index of each line's anchor
+    fairleads: np.ndarray    # node index of each line's fairlead
+    water: np.ndarray        # (rho_w, level)
+    current: np.ndarray      # (3,)
+    seabed: np.ndarray       # (z_bed, k_bed, zeta_bed, mu_bed, v_slip)
+    force: np.ndarray = field(default=None)
+    tension: np.ndarray = field(default=None)
+    added_mass: np.ndarray = field(default=None)
+    tangent: np.ndarray = field(default=None)
+    time: float = 0.0
+
+    def __post_init__(self):
+        n = len(self.x)
+        self.force = np.zeros((n, 3))
+        self.tension = np.zeros(n)
+        self.added_mass = np.zeros(n)
+        self.tangent = np.zeros((n, 3))
+        self._forces()
+
+    def _forces(self):
+        line_forces(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
+                    self.current, self.seabed, self.force, self.tension, self.added_mass)
+        node_tangents(self.x, self.prev, self.tangent)
+
+    def stable_step(self) -> float:
+        """Stability limit of the node chain [s]: 1/sqrt(max k/m) (omega_max = 2 sqrt(k/m) for a chain),
+        reduced for the bond dashpots and the seabed spring."""
+        bonded = self.prev >= 0
+        k = self.props[self.seg[bonded], 0] / self.props[self.seg[bonded], 1]
+        m = np.minimum(self.mass[bonded], self.mass[self.prev[bonded]])
+        omega2 = float(np.max(4.0 * k / m))
+        omega2 += float(self.seabed[1]) * float(np.max(self.props[:, 1])) / float(self.mass.min())
+        zeta = float(max(self.props[:, 7].max(), self.seabed[2]))
+        return 2.0 / math.sqrt(omega2) * (math.sqrt(1 + zeta * zeta) - zeta)
+
+    def advance(self, dt: float, nsub: int, fairlead_x=None, fairlead_v=None) -> None:
+        """Advance by nsub sub-steps of dt [s]; fairlead_x/v (n_lines, 3) are the prescribed
+        fairlead positions [m] and velocities [m/s] at the END of the interval (linear in between)."""
+        fl = self.fairleads
+        x0 = self.x[fl].copy()
+        x1 = x0 if fairlead_x is None else np.asarray(fairlead_x, float).reshape(-1, 3)
+        v1 = self.v[fl].copy() if fairlead_v is None else np.asarray(fairlead_v, float).reshape(-1, 3)
+        advance_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
+                      self.current, self.seabed, self.force, self.tension, self.added_mass, self.tangent,
+                      fl, x0, x1, v1, dt, nsub)
+        self.time += dt * nsub
+
+    def reactions(self, nodes: np.ndarray) -> np.ndarray:
+        """(k, 3) force [N] the line exerts on the support at each fixed/prescribed node (its anchor
+        or its body): all loads on that node, whose half element the support carries."""
+        return self.force[nodes].copy()
+
+    def fairlead_tensions(self) -> np.ndarray:
+        return np.linalg.norm(self.reactions(self.fairleads), axis=1)
+
+    def anchor_tensions(self) -> np.ndarray:
+        return np.linalg.norm(self.reactions(self.anchors), axis=1)
+
+    def line_nodes(self, line: int) -> np.ndarray:
+        """Node indices of one line, anchor first."""
+        start, end = self.anchors[line], self.fairleads[line]
+        return np.arange(start, end + 1)
+
+
+def build_lines(lines, *, element_length: float, water_density: float, water_level: float,
+                seabed_z: float | None, current=(0.0, 0.0, 0.0), bond_damping: float = 0.0,
+                seabed_stiffness: float = 1.0e5, seabed_damping: float = 0.5, seabed_friction: float = 0.5,
+                fairlead_kind: int = PRESCRIBED) -> MooringLines:
+    """Nodes for each line given as (anchor (3,), fairlead (3,), [LineSegment, ...] anchor first).
+
+    Nodes start on the quasi-static catenary through anchor and fairlead (with seabed contact when
+    ``seabed_z`` is given). seabed_stiffness [N/m per m of line], seabed_damping (ratio),
+    seabed_friction (Coulomb), element_length the longest element [m].
+    """
+    xs, masses, prevs, segs, kinds, props = [], [], [], [], [], []
+    anchors, fairleads = [], []
+    for anchor, fairlead, segments in lines:
+        anchor, fairlead = np.asarray(anchor, float), np.asarray(fairlead, float)
+        horiz = fairlead[:2] - anchor[:2]
+        hdist = float(np.linalg.norm(horiz))
+        e_h = horiz / hdist if hdist > 0 else np.array([1.0, 0.0])
+        static = solve_line([Segment(s.length, s.wet_weight, s.ea) for s in segments],
+                            horizontal=hdist, vertical=float(fairlead[2] - anchor[2]),
+                            seabed=seabed_z is not None)
+        prof = profile([Segment(s.length, s.wet_weight, s.ea) for s in segments], static, 2000)
+        base = len(xs)
+        s_nodes = [0.0]
+        for s in segments:
+            n_el = max(1, int(math.ceil(s.length / element_length - 1e-9)))
+            for k in range(n_el):
+                s_nodes.append(s_nodes[-1] + s.length / n_el)
+                props.append([s.ea, s.length / n_el, s.diameter, s.wet_weight, s.drag_normal,
+                              s.drag_tangential, s.added_mass, bond_damping])
+        s_nodes = np.asarray(s_nodes)
+        px = np.interp(s_nodes, prof[:, 0], prof[:, 1])
+        pz = np.interp(s_nodes, prof[:, 0], prof[:, 2])
+        for k, s in enumerate(s_nodes):
+            xs.append([anchor[0] + px[k] * e_h[0], anchor[1] + px[k] * e_h[1], anchor[2] + pz[k]])
+            prevs.append(base + k - 1 if k > 0 else -1)
+            segs.append(len(props) - (len(s_nodes) - 1) + k - 1 if k > 0 else 0)
+            kinds.append(FIXED if k == 0 else (fairlead_kind if k == len(s_nodes) - 1 else FREE))
+        # lumped masses: half of each adjacent element
+        el_mass = np.array([segments_mass(segments, element_length)]).ravel()
+        m = np.zeros(len(s_nodes))
+        m[:-1] += 0.5 * el_mass
+        m[1:] += 0.5 * el_mass
+        masses.extend(m)
+        anchors.append(base)
+        fairleads.append(base + len(s_nodes) - 1)
+    seabed = np.array([seabed_z if seabed_z is not None else -np.inf,
+                       seabed_stiffness if seabed_z is not None else 0.0, seabed_damping, seabed_friction, 0.01])
+    return MooringLines(x=np.asarray(xs, float), v=np.zeros((len(xs), 3)), mass=np.asarray(masses, float),
+                        prev=np.asarray(prevs, np.int64), seg=np.asarray(segs, np.int64),
+                        kind=np.asarray(kinds, np.int64), props=np.asarray(props, float),
+                        anchors=np.asarray(anchors, np.int64), fairleads=np.asarray(fairleads, np.int64),
+                        water=np.array([water_density, water_level]), current=np.asarray(current, float),
+                        seabed=seabed)
+
+
+def segments_mass(segments, element_length: float) -> list[float]:
+    """Mass [kg] of each element, anchor first."""
+    out = []
+    for s in segments:
+        n_el = max(1, int(math.ceil(s.length / element_length - 1e-9)))
+        out.extend([s.dry_mass * s.length / n_el] * n_el)
+    return out
