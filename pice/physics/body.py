@@ -1,0 +1,111 @@
+"""A floating rigid body (rank 0): 6 degrees of freedom, attitude as a unit quaternion (Eq. 11).
+
+Equation of motion (Eq. 9 of Zhu & Ji 2022 without the radiation memory term):
+    (M + M_add) u'' = F_ice + F_mooring + F_buoyancy + F_gravity + F_current - B |u'| u'
+with a constant, diagonal added mass in the body frame (surge, sway, heave, roll, pitch, yaw),
+quadratic damping per body-frame degree of freedom, buoyancy from the instantaneous submerged
+volume of the hull mesh (Eq. 12, kernels.hull) acting at the centre of buoyancy, and current
+drag 1/2 rho C_d A |u_c - v| (u_c - v) on the horizontal motion. Motion is "free" or
+"prescribed" (a velocity history, e.g. a ship pushed at constant speed).
+
+Time stepping is velocity Verlet: `kick` (half step of momentum and angular momentum), `drift`
+(translation and the exact free rotation of kernels.rigid_body), forces at the new pose, `kick`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..kernels.hull import submerged_volume, transform
+from ..kernels.rigid_body import angular_velocity, free_rotation, rotation_matrix
+
+
+@dataclass
+class RigidBody:
+    """State and parameters of one body (SI units; body frame at the centre of gravity)."""
+
+    name: str
+    mass: float                      # [kg]
+    inertia: np.ndarray              # (3,) principal moments about the CG [kg m^2]
+    vertices: np.ndarray             # (nv, 3) hull mesh in the body frame [m]
+    triangles: np.ndarray            # (nt, 3) outward-oriented triangles
+    added_mass: np.ndarray = field(default_factory=lambda: np.zeros(6))   # diagonal, body frame [kg, kg m^2]
+    damping: np.ndarray = field(default_factory=lambda: np.zeros(6))      # quadratic B [N s^2/m^2, N m s^2]
+    current_drag: np.ndarray = field(default_factory=lambda: np.zeros(2))  # 1/2 rho C_d A along x, y [N s^2/m^2]
+    prescribed: np.ndarray | None = None  # (k, 7) rows (t, vx, vy, vz, wx, wy, wz): velocity history
+    x: np.ndarray = field(default_factory=lambda: np.zeros(3))    # CG position [m]
+    v: np.ndarray = field(default_factory=lambda: np.zeros(3))    # CG velocity [m/s]
+    q: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0, 0.0]))
+    L: np.ndarray = field(default_factory=lambda: np.zeros(3))    # angular momentum, space frame [kg m^2/s]
+    force: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    torque: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    @property
+    def free(self) -> bool:
+        return self.prescribed is None
+
+    @property
+    def effective_inertia(self) -> np.ndarray:
+        return self.inertia + self.added_mass[3:]
+
+    @property
+    def omega(self) -> np.ndarray:
+        """Angular velocity, space frame [rad/s]."""
+        return angular_velocity(self.q, self.L, self.effective_inertia)
+
+    def pose_vector(self) -> np.ndarray:
+        """(13,) x, q, v, omega: what rank 0 broadcasts to every rank each step."""
+        return np.concatenate([self.x, self.q, self.v, self.omega])
+
+    def hull_in_space(self) -> np.ndarray:
+        return transform(self.vertices, rotation_matrix(self.q), self.x)
+
+    # -- loads ---------------------------------------------------------------------------------
+    def hydrostatics(self, *, rho_w: float, g: float, level: float) -> tuple[np.ndarray, np.ndarray, float]:
+        """(force [N], moment about the CG [N m], submerged volume [m^3]) of buoyancy at this pose."""
+        vol, cob = submerged_volume(self.hull_in_space(), self.triangles, level)
+        if vol <= 0.0:
+            return np.zeros(3), np.zeros(3), 0.0
+        f = np.array([0.0, 0.0, rho_w * g * vol])
+        return f, np.cross(cob - self.x, f), vol
+
+    def hydro_loads(self, *, rho_w: float, g: float, level: float, current=(0.0, 0.0)):
+        """Gravity, buoyancy, quadratic damping and current drag: (force [N], moment [N m])."""
+        f_b, m_b, _ = self.hydrostatics(rho_w=rho_w, g=g, level=level)
+        f = f_b + np.array([0.0, 0.0, -self.mass * g])
+        m = m_b
+        R = rotation_matrix(self.q)
+        vb = R.T @ self.v
+        wb = R.T @ self.omega
+        f = f - R @ (self.damping[:3] * np.abs(vb) * vb)
+        m = m - R @ (self.damping[3:] * np.abs(wb) * wb)
+        rel = np.asarray(current, float) - self.v[:2]
+        f[:2] += self.current_drag * np.abs(rel) * rel
+        return f, m
+
+    # -- time stepping -------------------------------------------------------------------------
+    def prescribed_velocity(self, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Linear interpolation of the velocity history at time t [s] (held after its last row)."""
+        h = self.prescribed
+        vel = np.array([np.interp(t, h[:, 0], h[:, k]) for k in range(1, 7)])
+        return vel[:3], vel[3:]
+
+    def kick(self, half_dt: float, t: float) -> None:
+        """Half-step update of v and L from self.force/self.torque (or the prescribed history)."""
+        if not self.free:
+            v, w = self.prescribed_velocity(t)
+            self.v = v
+            R = rotation_matrix(self.q)
+            self.L = R @ (self.effective_inertia * (R.T @ w))
+            return
+        R = rotation_matrix(self.q)
+        m_eff = self.mass + self.added_mass[:3]
+        self.v = self.v + half_dt * (R @ ((R.T @ self.force) / m_eff))
+        self.L = self.L + half_dt * self.torque
+
+    def drift(self, dt: float) -> None:
+        """x += v dt and the exact torque-free rotation over dt (kernels.rigid_body)."""
+        self.x = self.x + dt * self.v
+        self.q = free_rotation(self.q, self.L, self.effective_inertia, dt)
