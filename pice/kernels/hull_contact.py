@@ -1,0 +1,141 @@
+"""Contact of ice spheres with a moving rigid hull (triangle mesh in the body frame).
+
+Each rank evaluates its own ice against every body: a particle is taken to the body frame, the
+triangles registered in its grid cell are searched for the closest point, and if that point is
+nearer than the radius a linear spring-dashpot normal force with a tangential spring and Coulomb
+friction acts (the same law as the fixed walls). The reaction on the body (force, and moment
+about its centre of gravity) is summed for the rank-0 reduction.
+
+The triangle grid (body frame): origin (3,), cell size, dims (3,), cell_start (ncell+1,),
+cell_tris: triangles whose bounding box, grown by the largest radius, overlaps each cell.
+params: kn [N/m], kt [N/m], zeta, mu.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import JIT
+from .walls import closest_point_on_triangle
+
+
+def build_triangle_grid(vertices: np.ndarray, triangles: np.ndarray, *, reach: float):
+    """Body-frame cell grid over the hull's bounding box grown by ``reach`` [m] (numpy, at set-up)."""
+    lo = vertices.min(axis=0) - reach
+    hi = vertices.max(axis=0) + reach
+    extent = hi - lo
+    cell = max(2.0 * reach, float(extent.max()) / 64.0)
+    dims = np.maximum(1, np.ceil(extent / cell).astype(np.int64))
+    buckets = [[] for _ in range(int(np.prod(dims)))]
+    for t, tri in enumerate(triangles):
+        p = vertices[tri]
+        a = np.clip(((p.min(axis=0) - reach - lo) / cell).astype(np.int64), 0, dims - 1)
+        b = np.clip(((p.max(axis=0) + reach - lo) / cell).astype(np.int64), 0, dims - 1)
+        for k in range(a[2], b[2] + 1):
+            for j in range(a[1], b[1] + 1):
+                for i in range(a[0], b[0] + 1):
+                    buckets[(k * dims[1] + j) * dims[0] + i].append(t)
+    start = np.zeros(len(buckets) + 1, np.int64)
+    start[1:] = np.cumsum([len(b) for b in buckets])
+    tris = np.array([t for b in buckets for t in b], dtype=np.int64)
+    return lo, float(cell), dims, start, tris
+
+
+@njit(**JIT)
+def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_origin, cell, dims, cell_start,
+                cell_tris, params, hist, dt, force, torque):
+    """Add hull contact forces to owned particles; return the (6,) load on the body
+    (force [N], moment about its CG [N m]) from this rank's ice.
+
+    pose: (13,) x_cg, q (w, x, y, z), v_cg, omega (space frame). hist: (n, 3) tangential force [N].
+    """
+    xc = pose[0:3]
+    qw, qx, qy, qz = pose[3], pose[4], pose[5], pose[6]
+    s = 2.0 / (qw * qw + qx * qx + qy * qy + qz * qz)
+    R = np.array([
+        [1.0 - s * (qy * qy + qz * qz), s * (qx * qy - qw * qz), s * (qx * qz + qw * qy)],
+        [s * (qx * qy + qw * qz), 1.0 - s * (qx * qx + qz * qz), s * (qy * qz - qw * qx)],
+        [s * (qx * qz - qw * qy), s * (qy * qz + qw * qx), 1.0 - s * (qx * qx + qy * qy)],
+    ])
+    vb = pose[7:10]
+    om = pose[10:13]
+    kn, kt, zeta, mu = params[0], params[1], params[2], params[3]
+    load = np.zeros(6)
+    pb = np.empty(3)
+    cp = np.empty(3)
+    best = np.empty(3)
+    for i in range(nlocal):
+        r = radius[i]
+        d0, d1, d2 = x[i, 0] - xc[0], x[i, 1] - xc[1], x[i, 2] - xc[2]
+        for k in range(3):
+            pb[k] = R[0, k] * d0 + R[1, k] * d1 + R[2, k] * d2  # R^T (x - x_cg)
+        inside = True
+        cidx = 0
+        for k in range(3):
+            c = int(math.floor((pb[k] - grid_origin[k]) / cell))
+            if c < 0 or c >= dims[k]:
+                inside = False
+                break
+        if not inside:
+            hist[i, 0] = hist[i, 1] = hist[i, 2] = 0.0
+            continue
+        ci = int((pb[0] - grid_origin[0]) / cell)
+        cj = int((pb[1] - grid_origin[1]) / cell)
+        ck = int((pb[2] - grid_origin[2]) / cell)
+        cidx = (ck * dims[1] + cj) * dims[0] + ci
+        dmin = r
+        found = False
+        for p in range(cell_start[cidx], cell_start[cidx + 1]):
+            t = cell_tris[p]
+            closest_point_on_triangle(pb, vertices[triangles[t, 0]], vertices[triangles[t, 1]],
+                                      vertices[triangles[t, 2]], cp)
+            dd = math.sqrt((pb[0] - cp[0]) ** 2 + (pb[1] - cp[1]) ** 2 + (pb[2] - cp[2]) ** 2)
+            if dd < dmin and dd > 0.0:
+                dmin = dd
+                found = True
+                best[:] = cp
+        if not found:
+            hist[i, 0] = hist[i, 1] = hist[i, 2] = 0.0
+            continue
+        # normal (space frame) from the hull towards the particle centre
+        nb0, nb1, nb2 = (pb[0] - best[0]) / dmin, (pb[1] - best[1]) / dmin, (pb[2] - best[2]) / dmin
+        n0 = R[0, 0] * nb0 + R[0, 1] * nb1 + R[0, 2] * nb2
+        n1 = R[1, 0] * nb0 + R[1, 1] * nb1 + R[1, 2] * nb2
+        n2 = R[2, 0] * nb0 + R[2, 1] * nb1 + R[2, 2] * nb2
+        delta = r - dmin
+        c0, c1, c2 = x[i, 0] - r * n0, x[i, 1] - r * n1, x[i, 2] - r * n2  # contact point
+        a0, a1, a2 = c0 - xc[0], c1 - xc[1], c2 - xc[2]
+        # velocity of the sphere's surface point minus the hull's at the contact point
+        u0 = v[i, 0] + w[i, 1] * (-r * n2) - w[i, 2] * (-r * n1) - (vb[0] + om[1] * a2 - om[2] * a1)
+        u1 = v[i, 1] + w[i, 2] * (-r * n0) - w[i, 0] * (-r * n2) - (vb[1] + om[2] * a0 - om[0] * a2)
+        u2 = v[i, 2] + w[i, 0] * (-r * n1) - w[i, 1] * (-r * n0) - (vb[2] + om[0] * a1 - om[1] * a0)
+        un = u0 * n0 + u1 * n1 + u2 * n2
+        fn = kn * delta - 2.0 * zeta * math.sqrt(mass[i] * kn) * un
+        if fn < 0.0:
+            fn = 0.0
+        h = hist[i]
+        dn = h[0] * n0 + h[1] * n1 + h[2] * n2
+        h[0] -= dn * n0 + kt * (u0 - un * n0) * dt
+        h[1] -= dn * n1 + kt * (u1 - un * n1) * dt
+        h[2] -= dn * n2 + kt * (u2 - un * n2) * dt
+        hm = math.sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2])
+        if hm > mu * fn:
+            sc = mu * fn / hm
+            h[0] *= sc
+            h[1] *= sc
+            h[2] *= sc
+        f0, f1, f2 = fn * n0 + h[0], fn * n1 + h[1], fn * n2 + h[2]
+        force[i, 0] += f0
+        force[i, 1] += f1
+        force[i, 2] += f2
+        torque[i, 0] += (-r * n1) * f2 - (-r * n2) * f1
+        torque[i, 1] += (-r * n2) * f0 - (-r * n0) * f2
+        torque[i, 2] += (-r * n0) * f1 - (-r * n1) * f0
+        load[0] -= f0
+        load[1] -= f1
+        load[2] -= f2
+        load[3] -= a1 * f2 - a2 * f1
+        load[4] -= a2 * f0 - a0 * f2
+        load[5] -= a0 * f1 - a1 * f0
+    return load
