@@ -40,7 +40,14 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
         tension[i] = 0.0
         added_mass[i] = 0.0
     tangent = np.zeros((n, 3))
-    length = np.zeros(n)  # line length represented by each node [m]
+    # per node, from the half of each adjacent element it stands for: weight [N], drag areas
+    # [m^2] x coefficients, added-mass coefficient x volume [m^3], largest diameter (seabed)
+    weight = np.zeros(n)
+    drag_n = np.zeros(n)
+    drag_t = np.zeros(n)
+    am = np.zeros(n)
+    diam = np.zeros(n)
+    length = np.zeros(n)  # line length a node stands for [m]
     # axial bonds
     for i in range(n):
         p = prev[i]
@@ -66,25 +73,21 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
         force[i, 0] -= t * u0
         force[i, 1] -= t * u1
         force[i, 2] -= t * u2
+        D, half = props[s, 2], 0.5 * l0
         for node in (p, i):
             tangent[node, 0] += u0
             tangent[node, 1] += u1
             tangent[node, 2] += u2
-            length[node] += 0.5 * l0
-    # weight, Morison loads and seabed per node (properties of the bond below, or above at the end)
+            weight[node] += props[s, 3] * half
+            drag_n[node] += props[s, 4] * D * half
+            drag_t[node] += props[s, 5] * math.pi * D * half
+            am[node] += props[s, 6] * 0.25 * math.pi * D * D * half
+            diam[node] = max(diam[node], D)
+            length[node] += half
+    # weight, Morison loads and seabed per node
     z_bed, k_bed, zeta_bed, mu_bed, v_slip = seabed[0], seabed[1], seabed[2], seabed[3], seabed[4]
     for i in range(n):
-        s = seg[i] if prev[i] >= 0 else -1
-        if s < 0:  # the first node: use the bond to the node above it
-            for j in range(n):
-                if prev[j] == i:
-                    s = seg[j]
-                    break
-        if s < 0:
-            continue
-        D, wet, cdn, cdt, ca = props[s, 2], props[s, 3], props[s, 4], props[s, 5], props[s, 6]
-        dl = length[i]
-        force[i, 2] -= wet * dl
+        force[i, 2] -= weight[i]
         tn = math.sqrt(tangent[i, 0] ** 2 + tangent[i, 1] ** 2 + tangent[i, 2] ** 2)
         t0, t1, t2 = (tangent[i, 0] / tn, tangent[i, 1] / tn, tangent[i, 2] / tn) if tn > 0 else (0.0, 0.0, 1.0)
         if x[i, 2] <= water[1]:
@@ -94,15 +97,15 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
             rt = r0 * t0 + r1 * t1 + r2 * t2
             n0, n1, n2 = r0 - rt * t0, r1 - rt * t1, r2 - rt * t2
             vn = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-            cn = 0.5 * rho * cdn * D * dl * vn
-            ct = 0.5 * rho * cdt * math.pi * D * dl * abs(rt)
+            cn = 0.5 * rho * drag_n[i] * vn
+            ct = 0.5 * rho * drag_t[i] * abs(rt)
             force[i, 0] += cn * n0 + ct * rt * t0
             force[i, 1] += cn * n1 + ct * rt * t1
             force[i, 2] += cn * n2 + ct * rt * t2
-            added_mass[i] = ca * rho * 0.25 * math.pi * D * D * dl
-        pen = z_bed - (x[i, 2] - 0.5 * D)
+            added_mass[i] = rho * am[i]
+        pen = z_bed - (x[i, 2] - 0.5 * diam[i])
         if k_bed > 0.0 and pen > 0.0:
-            kb = k_bed * dl
+            kb = k_bed * length[i]
             fn = kb * pen - 2.0 * zeta_bed * math.sqrt(kb * mass[i]) * v[i, 2]
             if fn > 0.0:
                 force[i, 2] += fn
@@ -170,3 +173,39 @@ def advance_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, fo
         line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass)
         node_tangents(x, prev, tangent)
         accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
+
+
+@njit(**JIT)
+def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
+                tangent, dt, max_steps, tol):
+    """Static equilibrium by kinetic damping (dynamic relaxation): step the lines with fixed ends and
+    zero every velocity whenever the kinetic energy has just peaked. Stops when the largest net force
+    on a free node is below ``tol`` [N] or after max_steps. Returns the steps taken."""
+    n = x.shape[0]
+    ke_prev = 0.0
+    for step in range(max_steps):
+        accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
+        for i in range(n):
+            if kind[i] == 0:
+                for d in range(3):
+                    x[i, d] += dt * v[i, d]
+        line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass)
+        node_tangents(x, prev, tangent)
+        accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
+        ke = 0.0
+        worst = 0.0
+        for i in range(n):
+            if kind[i] != 0:
+                continue
+            ke += mass[i] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+            f = math.sqrt(force[i, 0] ** 2 + force[i, 1] ** 2 + force[i, 2] ** 2)
+            if f > worst:
+                worst = f
+        if ke < ke_prev:
+            for i in range(n):
+                v[i, 0] = v[i, 1] = v[i, 2] = 0.0
+            ke = 0.0
+        ke_prev = ke
+        if worst < tol and step > 10:
+            return step + 1
+    return max_steps

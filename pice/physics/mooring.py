@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..kernels.mooring import FIXED, FREE, PRESCRIBED, advance_lines, line_forces, node_tangents
+from ..kernels.mooring import FIXED, FREE, PRESCRIBED, advance_lines, line_forces, node_tangents, relax_lines
 from .catenary import Segment, profile, solve_line
 
 
@@ -87,6 +87,22 @@ class MooringLines:
                       self.current, self.seabed, self.force, self.tension, self.added_mass, self.tangent,
                       fl, x0, x1, v1, dt, nsub)
         self.time += dt * nsub
+
+    def relax(self, *, tol: float = 1.0, max_time: float = 600.0) -> int:
+        """Bring the lines to static equilibrium with their ends held (kinetic damping); the nodes
+        start on the continuous catenary, which a chain of straight elements cannot follow exactly
+        (its chords are shorter than the arc by ~ L kappa^2 dl^2 / 24). tol: largest net force on a
+        node [N]. Returns the relaxation steps taken."""
+        dt = 0.5 * self.stable_step()
+        current = self.current.copy()
+        self.current[:] = 0.0
+        steps = relax_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
+                            self.current, self.seabed, self.force, self.tension, self.added_mass, self.tangent,
+                            dt, int(max_time / dt), tol)
+        self.current[:] = current
+        self.v[:] = 0.0
+        self._forces()
+        return steps
 
     def reactions(self, nodes: np.ndarray) -> np.ndarray:
         """(k, 3) force [N] the line exerts on the support at each fixed/prescribed node (its anchor
