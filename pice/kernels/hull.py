@@ -8,6 +8,8 @@ the exact submerged volume of the closed mesh, and the volume-weighted tetrahedr
 the centre of buoyancy. Outward normals (counter-clockwise seen from outside) give positive volume.
 """
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -72,3 +74,52 @@ def transform(vertices_body, q_matrix, position):
             out[i, k] = (q_matrix[k, 0] * vertices_body[i, 0] + q_matrix[k, 1] * vertices_body[i, 1]
                          + q_matrix[k, 2] * vertices_body[i, 2] + position[k])
     return out
+
+
+@njit(**JIT)
+def brace_submerged(p0, p1, radius, level, nseg):
+    """(submerged volume [m^3], centroid (3,) [m]) of a cylindrical brace from p0 to p1 (Eqs. 13-14).
+
+    The brace is cut into nseg slices along its axis; each slice contributes its length times the
+    submerged area of its cross-section (Eq. 14), a circular segment below a chord at the height
+    d = h / cos(theta) above the centre, theta the brace's inclination to the water plane:
+    A = pi R^2 (d <= -R), R^2 arccos(d/R) - d sqrt(R^2 - d^2) (|d| < R), 0 (d >= R). (The paper's
+    Eq. 14 prints arccos(h/cos theta) without the /R.) The slice centroid is taken on its axis,
+    shifted by the segment centroid 2 (R^2 - d^2)^(3/2) / (3 A) along the section's downward
+    direction (perpendicular to the axis, in the vertical plane through it).
+    """
+    axis = p1 - p0
+    length = math.sqrt(axis[0] ** 2 + axis[1] ** 2 + axis[2] ** 2)
+    cos_t = math.sqrt(axis[0] ** 2 + axis[1] ** 2) / length
+    a = axis / length
+    down = np.array([a[2] * a[0], a[2] * a[1], a[2] * a[2] - 1.0])  # -(z - (z.a) a)
+    dn = math.sqrt(down[0] ** 2 + down[1] ** 2 + down[2] ** 2)
+    if dn > 0.0:
+        down /= dn
+    dl = length / nseg
+    vol = 0.0
+    mom = np.zeros(3)
+    R = radius
+    for k in range(nseg):
+        c = p0 + (k + 0.5) / nseg * axis
+        h = c[2] - level
+        if cos_t < 1e-12:  # vertical brace: the slice is wholly wet or dry
+            area = math.pi * R * R if h <= 0.0 else 0.0
+            drop = 0.0
+        else:
+            d = h / cos_t
+            if d <= -R:
+                area, drop = math.pi * R * R, 0.0
+            elif d >= R:
+                area, drop = 0.0, 0.0
+            else:
+                area = R * R * math.acos(d / R) - d * math.sqrt(R * R - d * d)
+                # centroid of the circular segment below the chord, measured from the centre
+                drop = 2.0 * (R * R - d * d) ** 1.5 / (3.0 * area) if area > 0.0 else 0.0
+        dv = area * dl
+        vol += dv
+        for q in range(3):
+            mom[q] += dv * (c[q] + drop * down[q])
+    if vol == 0.0:
+        return 0.0, np.full(3, np.nan)
+    return vol, mom / vol
