@@ -1,4 +1,4 @@
-"""Command line: ``pice run | check``. Heavy modules are imported inside each subcommand."""
+"""Command line: ``pice run | check | export | plot``. Heavy modules are imported inside each subcommand."""
 
 from __future__ import annotations
 
@@ -13,12 +13,40 @@ def _cmd_run(args) -> int:
 
     job = load_job(args.job)
     out = args.output or job.run.output or str(pathlib.Path("runs") / (pathlib.Path(args.job).stem + ".h5"))
-    summary = run_job(job, output=out, overwrite=args.overwrite, base_dir=pathlib.Path(args.job).parent)
+    summary = run_job(job, output=out, overwrite=args.overwrite, base_dir=pathlib.Path(args.job).parent,
+                      restart=args.restart)
     if summary["rank"] == 0:
-        print(f"pice: wrote {summary['output']}: {summary['steps']} steps to t = {summary['time']:.4g} s in "
-              f"{summary['wall_time']:.1f} s wall ({summary['particle_steps_per_second']:.3g} particle-steps/s), "
-              f"{summary['broken_bonds']} broken bonds, {summary['ranks']} rank(s)")
+        print("\n".join(_summary_lines(summary, job)))
     return 0
+
+
+def _summary_lines(summary: dict, job) -> list[str]:
+    """The end-of-run block: output, steps, wall time and throughput, broken bonds, peak wall loads."""
+    out = pathlib.Path(summary["output"])
+    xdmf = out.with_suffix(".xdmf")
+    lines = [f"pice: wrote {out}" + (f" (ParaView: {xdmf})" if xdmf.is_file() else ""),
+             f"  simulated     {summary['steps']:,} steps to t = {summary['time']:.4g} s, "
+             f"{summary['elements']:,} elements, {summary['ranks']} rank(s)",
+             f"  wall time     {summary['wall_time']:.1f} s, "
+             f"{summary['particle_steps_per_second']:.3g} particle-steps/s",
+             f"  broken bonds  {summary['broken_bonds']:,}"]
+    try:  # peak loads from the recorded series rows
+        import h5py
+        import numpy as np
+
+        with h5py.File(out, "r") as f:
+            force = f["series/wall_force"][()] if "series/wall_force" in f else np.zeros((0, 0, 3))
+            time = f["series/time"][()] if "series/time" in f else np.zeros(0)
+    except (OSError, KeyError):
+        return lines
+    if force.size and len(time) == len(force):
+        mag = np.linalg.norm(force, axis=2)
+        names = [w.name or f"wall{k}" for k, w in enumerate(job.walls)]
+        for k in range(mag.shape[1]):
+            i = int(np.argmax(mag[:, k]))
+            name = names[k] if k < len(names) else f"wall{k}"
+            lines.append(f"  peak |F| on {name}: {mag[i, k] / 1e3:,.4g} kN at t = {time[i]:.4g} s")
+    return lines
 
 
 def _cmd_check(args) -> int:
@@ -55,6 +83,46 @@ def _cmd_check(args) -> int:
     return 0
 
 
+def _cmd_export(args) -> int:
+    if not args.vtk and not args.xdmf:
+        print("pice export: give --vtk DIR (VTK files and a .pvd) and/or --xdmf (an XDMF file beside the run)",
+              file=sys.stderr)
+        return 2
+    if args.xdmf:
+        from .io.vtk_export import open_run
+        from .io.xdmf import write_xdmf
+
+        open_run(args.run).h5.close()  # a clear error for a missing or unreadable run file
+        print(f"pice: wrote {write_xdmf(args.run)}")
+    if args.vtk:
+        from .io.vtk_export import export_vtk
+
+        result = export_vtk(args.run, args.vtk)
+        print(f"pice: wrote {len(result['files'])} .vtu files and {result['pvd']} (open it in ParaView)")
+    return 0
+
+
+def _cmd_plot(args) -> int:
+    import h5py
+
+    from postproc.plots import default_out_dir, plot_run
+
+    out = pathlib.Path(args.out) if args.out else default_out_dir(args.run)
+    written = plot_run(args.run, out)  # a missing or unreadable run file stops here
+    if not args.no_render:
+        with h5py.File(args.run, "r") as f:
+            has_snapshots = len(f.get("snapshots", ())) > 0
+        if has_snapshots:
+            from postproc.render import render_snapshot
+
+            written.append(render_snapshot(args.run, out / f"render_{args.color_by}.png", snapshot=args.snapshot,
+                                           color_by=args.color_by))
+        else:
+            print(f"pice: {args.run} holds no snapshots: nothing to render", file=sys.stderr)
+    print(f"pice: wrote {len(written)} PNG file(s) in {out}: " + ", ".join(p.name for p in written))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="pice", description="DEM of sea ice acting on moored floating structures")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -62,10 +130,26 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("job")
     r.add_argument("-o", "--output", help="run file (default: run.output of the job, else runs/<job>.h5)")
     r.add_argument("--overwrite", action="store_true", help="replace an existing run file")
+    r.add_argument("--restart", metavar="CHECKPOINT",
+                   help="continue from a checkpoint (run.checkpoint, default <run>.ckpt.h5): the run file is "
+                        "continued from the checkpoint's step; any rank count")
     r.set_defaults(func=_cmd_run)
     c = sub.add_parser("check", help="validate a job and print its size, time step and estimated cost")
     c.add_argument("job")
     c.set_defaults(func=_cmd_check)
+    e = sub.add_parser("export", help="write VTK (.vtu per snapshot, walls, .pvd) or XDMF for a run file")
+    e.add_argument("run", help="the .h5 run file")
+    e.add_argument("--vtk", metavar="DIR", help="folder for the .vtu files and the .pvd collection")
+    e.add_argument("--xdmf", action="store_true", help="(re)write <run>.xdmf beside the run file")
+    e.set_defaults(func=_cmd_export)
+    pl = sub.add_parser("plot", help="PNG figures of a run (ice loads, energies, broken bonds) and a render")
+    pl.add_argument("run", help="the .h5 run file")
+    pl.add_argument("--out", metavar="DIR", help="output folder (default <run>_plots/ beside the run file)")
+    pl.add_argument("--snapshot", type=int, default=-1, help="snapshot index to render (default -1, the last)")
+    pl.add_argument("--color-by", choices=("velocity", "damage"), default="velocity",
+                    help="colour of the rendered spheres (default velocity)")
+    pl.add_argument("--no-render", action="store_true", help="figures only, no pyvista render")
+    pl.set_defaults(func=_cmd_plot)
     return ap
 
 
@@ -82,7 +166,19 @@ def main(argv=None) -> int:
         from .log import launch_rank
 
         if launch_rank() == 0:
-            print(f"pice: error: {exc}" if not hasattr(exc, "lines") else str(exc), file=sys.stderr)
+            from .errors import RunInterrupted
+
+            what = "" if isinstance(exc, RunInterrupted) else "error: "
+            print(f"pice: {what}{exc}" if not hasattr(exc, "lines") else str(exc), file=sys.stderr)
+        if getattr(exc, "hard_exit", False):  # HDF5 crashes at exit after a failed write (see OutputError)
+            import os
+
+            from .parallel.comm import settle_all
+
+            sys.stdout.flush()
+            sys.stderr.flush()
+            settle_all()
+            os._exit(exc.exit_code)
         return exc.exit_code
     except KeyboardInterrupt:
         print("pice: interrupted; the run file keeps every row written so far", file=sys.stderr)

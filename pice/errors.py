@@ -21,3 +21,9 @@ class InstabilityError(PiceError):
     """The integration blew up (NaN or runaway motion); the run stopped cleanly. Exit status 3."""
 
     exit_code = 3
+
+
+class RunInterrupted(PiceError):
+    """SIGINT/SIGTERM stopped the run after a final checkpoint. Exit status 130 (as for Ctrl-C)."""
+
+    exit_code = 130

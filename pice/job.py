@@ -64,6 +64,8 @@ class RunSpec(_Section):
     snapshots: _count(0) = 5
     check_every: _count(1) = 10
     stop_at_first_break: StrictBool = False
+    checkpoint_every: _q("s", gt=None, ge=0.0) = 0.0  # simulated seconds between checkpoints; 0 = off
+    checkpoint: str = ""  # checkpoint file (default: beside the run file, <run>.ckpt.h5)
 
 
 class WaterSpec(_Section):

@@ -51,7 +51,7 @@ class Counters:
 class Simulation:
     """Particles, parameters and the time loop of one job on one rank."""
 
-    def __init__(self, job, *, base_dir=None, comm=None):
+    def __init__(self, job, *, base_dir=None, comm=None, restart=False, checkpoint=None):
         from .parallel.comm import world
 
         self.job = job
@@ -84,8 +84,20 @@ class Simulation:
         self.c = Counters()
         self.wall_clock = {"exchange": 0.0, "forces": 0.0}  # seconds spent per phase (for mpi/scaling.py)
         self._events = np.zeros((MAX_EVENTS, 4), dtype=np.int64)
-        self._distribute()
-        self.compute_forces()
+        if not restart:
+            self._distribute()
+            self.compute_forces()
+        else:
+            self._restore(checkpoint)
+
+    @classmethod
+    def from_checkpoint(cls, job, data, *, base_dir=None, comm=None) -> "Simulation":
+        """Continue from a checkpoint (io.checkpoint.read_checkpoint's dict on rank 0, None elsewhere).
+
+        The parameters are rebuilt from ``job`` exactly as a fresh run builds them; the particles,
+        counters and (on the same rank count) the cuts come from the checkpoint.
+        """
+        return cls(job, base_dir=base_dir, comm=comm, restart=True, checkpoint=data)
 
     # -- set-up -------------------------------------------------------------------------------
     def _apply_loads_and_fixes(self) -> None:
@@ -164,6 +176,85 @@ class Simulation:
             mine = np.nonzero(self.decomp.owner(p.x[:, 0], p.x[:, 1]) == self.comm.rank)[0]
             p.replace_rows([p.rows(mine)], len(mine))
         self.halo.rebuild(p)
+
+    def _restore(self, data) -> None:
+        """Particles, cuts and counters from a checkpoint; refuse one that does not fit this job."""
+        from . import __version__
+        from .io.checkpoint import CheckpointError, physics_differences, physics_text
+        from .parallel.decomposition import Decomposition, uniform
+        from .parallel.halo import Halo
+
+        comm, p = self.comm, self.p
+        meta = None
+        if comm.rank == 0:
+            x = data["particles"]["x"]
+            meta = dict(attrs=data["attrs"], path=data.get("path", "checkpoint"), x_cuts=data["x_cuts"],
+                        y_cuts=data["y_cuts"], counters=data["counters"], gid=data["particles"]["gid"],
+                        lo=tuple(x[:, :2].min(axis=0)) if len(x) else (0.0, 0.0),
+                        hi=tuple(x[:, :2].max(axis=0)) if len(x) else (0.0, 0.0))
+        meta = comm.bcast(meta)
+        a, where = meta["attrs"], meta["path"]
+        if float(a["dt"]) != self.dt:
+            raise CheckpointError(
+                f"{where}: written with dt = {float(a['dt'])!r} s, but {self.job.source} now gives "
+                f"dt = {self.dt!r} s; a restart must keep the time step: restore run.dt (and run.dt_safety) "
+                "of the run that wrote it")
+        diff = physics_differences(a["physics"], physics_text(self.job))
+        if diff:
+            raise CheckpointError(f"{where}: the job's physics differs from the run that wrote this checkpoint: "
+                                  f"{'; '.join(diff)}; only [run] (duration, output schedule) and [parallel] may "
+                                  "change on a restart")
+        if not np.array_equal(meta["gid"], p.gid):  # the fresh sheet is in gid order
+            raise CheckpointError(f"{where}: holds {len(meta['gid'])} particles whose ids do not match the "
+                                  f"{p.n} of the job's sheet; it was written for another scene")
+        if str(a.get("pice_version")) != __version__ and comm.rank == 0:
+            log.warning("%s: written by pice %s, restarting with pice %s", where, a.get("pice_version"), __version__)
+        same_layout = int(a["ranks"]) == comm.size
+        width = self.ghost_width()  # from the whole sheet, as a fresh run computes it
+        if same_layout:
+            self.decomp = Decomposition(np.asarray(meta["x_cuts"]), np.asarray(meta["y_cuts"]))
+        else:
+            par = self.job.parallel
+            lo, hi = par.domain if par.domain is not None else (meta["lo"], meta["hi"])
+            self.decomp = uniform(comm.size, lo=lo, hi=hi)
+            if comm.rank == 0:
+                log.info("%s: written on %d rank(s), continuing on %d: results agree to round-off, not bit "
+                         "for bit", where, int(a["ranks"]), comm.size)
+        blocks = None
+        if comm.rank == 0:
+            rows = data["particles"]
+            owner = self.decomp.owner(rows["x"][:, 0], rows["x"][:, 1]) if comm.size > 1 else \
+                np.zeros(len(rows["gid"]), np.int64)
+            blocks = [{k: v[owner == r] for k, v in rows.items()} for r in range(comm.size)]
+        mine = comm.alltoall(blocks if blocks is not None else [None] * comm.size)[0]
+        p.replace_rows([mine], len(mine["gid"]))
+        self.halo = Halo(comm, self.decomp, ghost_width=width, skin=self.job.parallel.skin)
+        self.halo.rebuild(p)  # ghosts and bond partners, as the writing run rebuilt them at that step
+        c, k = self.c, meta["counters"]
+        c.step = int(a["step"])
+        c.time = float(a["time"])
+        r = comm.rank
+        if same_layout:
+            c.broken, c.contacts = int(k["broken"][r]), int(k["contacts"][r])
+            c.contact_energy, c.wall_energy = float(k["contact_energy"][r]), float(k["wall_energy"][r])
+        elif r == 0:
+            c.broken, c.contacts = int(np.sum(k["broken"])), int(np.sum(k["contacts"]))
+            c.contact_energy, c.wall_energy = float(np.sum(k["contact_energy"])), float(np.sum(k["wall_energy"]))
+        ev = comm.bcast(data["events"] if r == 0 else None)
+        keep = (ev["rank"] == r) if same_layout else np.full(len(ev["rank"]), r == 0)
+        c.events = [(int(st), float(t), int(ga), int(gb), int(m)) for st, t, ga, gb, m in
+                    zip(ev["step"][keep], ev["time"][keep], ev["gid_a"][keep], ev["gid_b"][keep], ev["mode"][keep])]
+        wt = comm.bcast(data["wall_total"] if r == 0 else None)
+        self.wall_total = None if (wt is None or r != 0) else np.array(wt)
+
+    def rebuild_for_checkpoint(self) -> None:
+        """Migrate and rebuild the ghosts now, as a restart from a checkpoint of this step does.
+
+        Called whenever a checkpoint is written, so that the layout (owned rows in gid order, ghosts)
+        after the checkpoint is the same in the run that goes on and in one restarted from it: the
+        two then agree bit for bit on the same rank count. Forces travel with the rows (state.py).
+        """
+        self.halo.rebuild(self.p)
 
     def ghost_width(self) -> float:
         """Halo width [m]: the contact reach or the longest bond at its breaking stretch, plus the skin."""

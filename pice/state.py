@@ -23,11 +23,14 @@ BOND_HIST = 8
 KIND_ICE = 0
 
 
-# arrays that travel with a particle when it migrates (bond_j is re-resolved from bond_gid;
-# force and torque are recomputed)
+# arrays that travel with a particle when it migrates, and that a checkpoint holds (bond_j is
+# re-resolved from bond_gid). force and torque travel too: the half-kick that opens the next step
+# uses them, so a rebuild (or a restart) needs no force recomputation, which would advance the
+# incremental bond and contact histories a second time.
 PER_PARTICLE = ("gid", "x", "v", "w", "radius", "mass", "inertia", "kind", "volume", "cell_area",
                 "half_height", "bond_gid", "bond_mate", "bond_L0", "bond_hist", "ext_force", "fix_mask",
-                "fix_velocity", "contact_gid", "contact_stamp", "contact_hist", "wall_hist", "heave_damping")
+                "fix_velocity", "contact_gid", "contact_stamp", "contact_hist", "wall_hist", "heave_damping",
+                "force", "torque")
 
 
 @dataclass
@@ -90,15 +93,12 @@ class Particles:
     def replace_rows(self, parts: list[dict[str, np.ndarray]], nlocal: int) -> None:
         """Set every per-particle array to the concatenation of ``parts``; the first nlocal are owned.
 
-        force/torque are reallocated (they are recomputed after every exchange); bond_j is left to be
-        resolved from bond_gid.
+        force/torque come with the rows (a ghost's copy is never read: compute_forces zeroes them);
+        bond_j is left to be resolved from bond_gid.
         """
         for name in PER_PARTICLE:
             setattr(self, name, np.concatenate([part[name] for part in parts]))
-        n = len(self.gid)
         self.nlocal = nlocal
-        self.force = np.zeros((n, 3))
-        self.torque = np.zeros((n, 3))
         self.bond_j = np.full(self.bond_gid.shape, -1, dtype=np.int32)
 
     def intact_bonds(self) -> np.ndarray:

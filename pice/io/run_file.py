@@ -5,16 +5,28 @@ Layout::
     /                 attrs: job_text, job_source, pice_version, ranks, units, started, status
     /series/<name>    one row per recorded step (resizable, flushed as written)
     /snapshots/NNNNN  attrs time, step; datasets gid, x, v, w, radius, kind, bonds (m,2 gids)
+                      [+ point_index, bond_index when the gids are not 0..n-1: point_index_arrays]
     /events/broken_bonds  (k,5) float64 rows: step, time, gid_a, gid_b, mode (1 tension/bending, 2 shear)
 
 Rows are flushed as they are written, so a run that stops keeps everything recorded until then.
+
+Parallel runs write the same file in one of two modes (io/mpio.py): every rank through h5py's
+``mpio`` driver when h5py has MPI, else rank 0 alone from gathered arrays. A write that fails (a
+full disk, a denied path) raises OutputError naming the path and what to do, on every rank alike;
+what was flushed before stays in the file, and an existing file is never replaced without
+``overwrite``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import datetime
+import errno
+import io
 import os
 import pathlib
+import re
+import sys
 
 import h5py
 import numpy as np
@@ -26,79 +38,422 @@ UNITS = "SI: m, s, kg, N, N m, J, Pa; angles in rad"
 
 
 class OutputError(PiceError):
-    """The run file cannot be created or written. Exit status 4."""
+    """The run file cannot be created or written. Exit status 4.
+
+    ``hard_exit``: a write failed inside HDF5, which then can neither flush nor close the file and
+    crashes when the process ends (HDF5 1.10 and 2.0 alike); the command line ends the process
+    with os._exit after the message. Everything flushed before the failure is in the file.
+    """
 
     exit_code = 4
+    hard_exit = False
+
+
+#: bytes that must stay free beyond a write's own data: the HDF5 metadata flushed with it. Checked
+#: before every write, so a disk that fills up stops the run cleanly before HDF5 meets ENOSPC.
+SPACE_MARGIN = 256 * 1024
+
+
+_FULL = (errno.ENOSPC, errno.EFBIG, errno.EDQUOT)
+
+
+def _reason(exc: BaseException) -> str:
+    """The operating system's words for an h5py/OS error ("No space left on device"), else the text."""
+    if isinstance(exc, OSError) and exc.errno and exc.strerror:
+        return exc.strerror
+    text = str(exc)
+    m = re.search(r"errno = (\d+)", text)
+    if m and int(m.group(1)):
+        return os.strerror(int(m.group(1)))
+    for code in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EACCES, errno.EROFS, errno.ENOENT, errno.EIO):
+        if os.strerror(code) in text:  # e.g. inside an MPI-IO error stack
+            return os.strerror(code)
+    m = re.search(r"error message = '([^']+)'", text)
+    return m.group(1) if m else " ".join(text.split())
+
+
+def _hint(reason: str) -> str:
+    if any(os.strerror(e) in reason for e in _FULL):
+        return ("the disk is full (or a size limit or quota was reached): free space or choose another "
+                "output with -o")
+    return "check that the file system is writable, or choose another output with -o"
+
+
+def _free_bytes(folder: pathlib.Path) -> int | None:
+    try:
+        st = os.statvfs(folder)
+    except OSError:
+        return None
+    return st.f_bavail * st.f_frsize
+
+
+def _nbytes(*arrays) -> int:
+    return int(sum(np.asarray(a).nbytes for a in arrays))
+
+
+def _refusal(path: pathlib.Path, overwrite: bool) -> str | None:
+    """Why ``path`` cannot become a new run file (None: go ahead). Creates missing parent folders."""
+    if path.is_dir():
+        return f"{path}: is a directory; give a file name with -o"
+    if path.exists() and not overwrite:
+        return f"{path}: already exists; pass --overwrite to replace it or choose another output with -o"
+    for folder in (path.parent, *path.parent.parents):
+        if folder.exists():
+            if not folder.is_dir():
+                return (f"{path}: cannot create the run file ({folder} is a file, not a folder); "
+                        "choose a writable path with -o")
+            break
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        return (f"{path}: cannot create its folder {path.parent} ({exc.strerror or exc}); "
+                "choose a writable path with -o")
+    return None
+
+
+def point_index_arrays(gid: np.ndarray, bonds: np.ndarray) -> dict:
+    """Connectivity by point index for readers that cannot follow gids (XDMF, see io/xdmf.py).
+
+    ``gid`` is a snapshot's sorted gid array and ``bonds`` its (m,2) gid pairs. When the gids are
+    0..n-1 (every run so far) they are their own indices and nothing extra is stored: {}. Otherwise
+    ``point_index`` (0..n-1) and ``bond_index`` (bonds as indices into the snapshot's arrays).
+    """
+    n = len(gid)
+    if n == 0 or (gid[0] == 0 and gid[-1] == n - 1):  # sorted and unique, so exactly 0..n-1
+        return {}
+    return {"point_index": np.arange(n, dtype=np.int64),
+            "bond_index": np.searchsorted(gid, np.asarray(bonds, dtype=np.int64).reshape(-1, 2))}
 
 
 class RunFile:
-    """Writer of one run's HDF5 file (serial; a parallel writer joins in the output issue)."""
+    """Writer of one run's HDF5 file.
+
+    Serial (``comm`` None or of size 1): one process writes; snapshot arrays and events are the
+    whole run's (rank 0 of a gathered run). Parallel (``comm`` of size > 1, h5py with MPI, see
+    io/mpio.py): every rank constructs it and calls every method in the same order; series rows
+    may differ between ranks (rank 0's are written), snapshot arrays and events are the rank's own.
+    """
+
+    comm = None          # the communicator of the mpio mode (None: serial)
+    rank = 0
+    failed = None        # the OutputError message of a failed write (then close() stays quiet)
+    broken = False       # a write failed inside HDF5: the file cannot be flushed or closed any more
 
     def __init__(self, path: str | os.PathLike, *, job, overwrite: bool = False, ranks: int = 1,
-                 extra_attrs: dict | None = None):
+                 extra_attrs: dict | None = None, comm=None):
         self.path = pathlib.Path(path)
-        if self.path.exists() and not overwrite:
-            raise OutputError(f"{self.path}: already exists; pass --overwrite to replace it or choose "
-                              "another output with -o")
+        self.h5 = None
+        if comm is not None and comm.size > 1:
+            self.comm, self.rank = comm, comm.rank
+        refusal = _refusal(self.path, overwrite) if self.rank == 0 else None
+        if self.comm:
+            refusal = self.comm.bcast(refusal)
+        if refusal:
+            raise OutputError(refusal)
+        reason = None
         try:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self.h5 = h5py.File(self.path, "w")
+            if self.comm:  # collective; "w" only after the overwrite check above
+                self.h5 = h5py.File(self.path, "w", driver="mpio", comm=self.comm.h5py_comm())
+            else:
+                self.h5 = h5py.File(self.path, "w")
         except OSError as exc:
-            raise OutputError(f"{self.path}: cannot create the run file ({exc.strerror or exc}); "
-                              "choose a writable path with -o") from None
-        a = self.h5.attrs
-        a["job_text"] = job.text
-        a["job_source"] = job.source
-        a["pice_version"] = __version__
-        a["ranks"] = ranks
-        a["units"] = UNITS
-        a["started"] = datetime.datetime.now(datetime.timezone.utc).isoformat()
-        a["status"] = "running"
-        for k, v in (extra_attrs or {}).items():
-            a[k] = v
-        self.series = self.h5.create_group("series")
-        self.snapshots = self.h5.create_group("snapshots")
-        self.events = self.h5.create_dataset("events/broken_bonds", shape=(0, 5), maxshape=(None, 5),
-                                             dtype="f8", chunks=(1024, 5))
+            reason = _reason(exc)
+        reason = self._agree(reason)
+        if reason:
+            self._drop()
+            raise OutputError(f"{self.path}: cannot create the run file ({reason}); choose a writable path "
+                              "with -o")
+        attrs = dict(job_text=job.text, job_source=job.source, pice_version=__version__, ranks=ranks,
+                     units=UNITS, started=datetime.datetime.now(datetime.timezone.utc).isoformat(),
+                     status="running", **(extra_attrs or {}))
+        if self.comm:  # the same attribute values on every rank (the clocks differ)
+            attrs = self.comm.bcast(attrs)
+
+        def start():
+            for k, v in attrs.items():
+                self.h5.attrs[k] = v
+            self.series = self.h5.create_group("series")
+            self.snapshots = self.h5.create_group("snapshots")
+            self.events = self.h5.create_dataset("events/broken_bonds", shape=(0, 5), maxshape=(None, 5),
+                                                 dtype="f8", chunks=(1024, 5))
+
+        try:
+            self._write("the run file's attributes", start, need=_nbytes(job.text.encode()))
+            self._write("the run file's attributes", self.h5.flush)
+        except OutputError:
+            self.close("failed")  # quiet: self.failed is set (collective: every rank failed alike)
+            raise
         self.rows = 0
+
+    # -- failure handling: every rank learns of a failure on any rank, and raises the same error --
+
+    def _agree(self, reason: str | None) -> str | None:
+        """The first failure reason of any rank, on every rank (collective in the mpio mode)."""
+        if self.comm is None:
+            return reason
+        if not self.comm.max(1 if reason else 0):
+            return None
+        reasons = self.comm.gather(reason)
+        return self.comm.bcast(next(r for r in reasons if r) if self.comm.rank == 0 else None)
+
+    def _write(self, what: str, fn, need: int | None = None) -> None:
+        """Run ``fn`` (h5py calls); on any rank's failure raise OutputError on every rank.
+
+        ``need``: bytes the write adds; with less than ``need + SPACE_MARGIN`` free on the file's
+        disk it is not attempted (the file stays whole and closes normally)."""
+        if self.failed:
+            raise self._error
+        if need is not None:
+            short = None
+            if self.rank == 0:
+                free = _free_bytes(self.path.parent)
+                if free is not None and free < need + SPACE_MARGIN:
+                    short = (f"{os.strerror(errno.ENOSPC)}: {free / 2**20:.3g} MiB free, about "
+                             f"{(need + SPACE_MARGIN) / 2**20:.3g} MiB needed")
+            short = self._agree(short)
+            if short:
+                self.failed = (f"{self.path}: writing {what} stopped ({short}); {_hint(short)}. What was "
+                               "written before is kept in the file.")
+                self._error = OutputError(self.failed)
+                raise self._error
+        reason = None
+        ignored = []  # h5py reports a failed H5Dclose (a dataset object let go) as "Exception ignored"
+        previous = sys.unraisablehook
+        sys.unraisablehook = lambda u: (ignored.append(u.exc_value) if isinstance(u.exc_value, (OSError, RuntimeError))
+                                        else previous(u))
+        h5py_says = io.StringIO()  # ... after printing its traceback: shown only if it was not that
+        try:
+            with contextlib.redirect_stderr(h5py_says):
+                fn()
+        except (OSError, RuntimeError) as exc:
+            reason = _reason(exc)
+        finally:
+            sys.unraisablehook = previous
+            if h5py_says.getvalue() and not ignored:
+                sys.stderr.write(h5py_says.getvalue())
+        if ignored and not reason:  # then a flush would crash inside HDF5: stop here
+            reason = _reason(ignored[0])
+        reason = self._agree(reason)
+        if reason:
+            self.broken = True
+            self.failed = (f"{self.path}: writing {what} failed ({reason}); {_hint(reason)}. What was written "
+                           "before is kept in the file.")
+            self._error = OutputError(self.failed)
+            self._error.hard_exit = True
+            raise self._error
+
+    def _drop(self) -> None:
+        """Forget the file without collective calls (HDF5 closes it when the process ends)."""
+        if self.h5 is not None:
+            _ABANDONED.append(self.h5)  # no garbage-collected close on one rank alone
+        self.h5 = None
+
+    def abandon(self) -> None:
+        """Stop writing without closing collectively: for a failure that not every rank has seen.
+        Everything flushed stays in the file; its status attribute stays "running"."""
+        self._drop()
+
+    # -- writing --
 
     def append_series(self, row: dict) -> None:
         """Append one row; each key becomes /series/<key> with shape (rows, *value.shape)."""
-        for key, value in row.items():
-            value = np.asarray(value, dtype=np.float64)
-            if key not in self.series:
-                self.series.create_dataset(key, shape=(0, *value.shape), maxshape=(None, *value.shape),
-                                           dtype="f8", chunks=(256, *value.shape) if all(value.shape) else True)
-            ds = self.series[key]
-            ds.resize(self.rows + 1, axis=0)
-            ds[self.rows] = value
+        if self.comm:  # rank 0 holds the reduced values; every rank makes the same metadata calls
+            row = self.comm.bcast(row)
+        row = {key: np.asarray(value, dtype=np.float64) for key, value in row.items()}
+
+        def write():
+            for key, value in row.items():
+                if key not in self.series:
+                    self.series.create_dataset(key, shape=(0, *value.shape), maxshape=(None, *value.shape),
+                                               dtype="f8", chunks=(256, *value.shape) if all(value.shape) else True)
+                ds = self.series[key]
+                ds.resize(self.rows + 1, axis=0)
+                if self.rank == 0:
+                    ds[self.rows] = value
+
+        # a row may start a new 256-row chunk in every dataset
+        self._write(f"series row {self.rows}", write, need=256 * _nbytes(*row.values()))
+        self._write(f"series row {self.rows}", self.h5.flush)
         self.rows += 1
-        self.h5.flush()
 
     def append_events(self, events: list) -> None:
-        """Append broken-bond events (step, time, gid_a, gid_b, mode)."""
-        if not events:
+        """Append broken-bond events (step, time, gid_a, gid_b, mode).
+
+        Serial: the run's new events, sorted. mpio mode (collective): each rank's own new events."""
+        if self.comm:
+            parts = self.comm.gather(list(events))
+            events = sorted(e for part in parts for e in part) if self.rank == 0 else []
+            count = self.comm.bcast(len(events))
+        else:
+            count = len(events)
+        if not count:
             return
         arr = np.asarray(events, dtype=np.float64)
-        n0 = self.events.shape[0]
-        self.events.resize(n0 + len(arr), axis=0)
-        self.events[n0:] = arr
+
+        def write():
+            n0 = self.events.shape[0]
+            self.events.resize(n0 + count, axis=0)
+            if self.rank == 0:
+                self.events[n0:] = arr
+
+        self._write("broken-bond events", write, need=(count + 1024) * 5 * 8)
 
     def write_snapshot_arrays(self, index: int, *, time: float, step: int, arrays: dict) -> None:
-        """Particles sorted by gid (gid, x, v, w, radius, kind) and intact bonds as sorted gid pairs."""
+        """Particles sorted by gid (gid, x, v, w, radius, kind) and intact bonds as sorted gid pairs.
+
+        Serial: the whole run's arrays. mpio mode (collective): this rank's owned particles and the
+        bonds whose lower-gid end it owns; each lands at its place in the gid-sorted datasets."""
+        if self.comm:
+            self._write_snapshot_mpio(index, time=time, step=step, arrays=arrays)
+            return
+        need = 2 * _nbytes(*arrays.values())  # x2: the index arrays when the gids are not 0..n-1
+        self._write(f"snapshot {index}", lambda: self._write_snapshot_serial(index, time, step, arrays), need=need)
+        self._write(f"snapshot {index}", self.h5.flush)
+
+    def _write_snapshot_mpio(self, index: int, *, time: float, step: int, arrays: dict) -> None:
+        from .mpio import RUNS_DIRECT, count_runs, placement, to_blocks, write_rows
+
+        comm = self.comm
+        gid = np.asarray(arrays["gid"])
+        bonds = np.asarray(arrays["bonds"]).reshape(-1, 2)
+        order, rows, border, brows, n, m, gids = placement(comm, gid, bonds)
+        fields = {name: np.asarray(arrays[name])[order] for name in _PARTICLE_FIELDS}
+        fields["bonds"] = bonds[border]
+        # rank 0's time, step, dtypes and extra arrays: metadata calls must be identical everywhere
+        extra = None
+        if self.rank == 0:
+            extra = point_index_arrays(gids, np.zeros((0, 2), dtype=np.int64))
+        need_all_bonds = comm.bcast(bool(extra))
+        if need_all_bonds:  # gids are not 0..n-1 (not so far): rank 0 derives the index arrays
+            parts = comm.gather(fields["bonds"])
+            if self.rank == 0:
+                b = np.concatenate(parts)
+                extra = point_index_arrays(gids, b[np.lexsort((b[:, 1], b[:, 0]))] if len(b) else b)
+        spec = {k: (a.dtype.str, a.shape[1:]) for k, a in fields.items()}
+        time, step, spec, extra_spec = comm.bcast(
+            (time, step, spec, {k: (a.dtype.str, a.shape) for k, a in (extra or {}).items()}))
+        fields = {k: np.ascontiguousarray(a, dtype=np.dtype(spec[k][0])) for k, a in fields.items()}
+        direct = comm.max(max(count_runs(rows), count_runs(brows))) <= RUNS_DIRECT
+        if not direct:  # many runs: first give every rank one contiguous block of rows
+            rows, moved = to_blocks(comm, rows, [fields[k] for k in _PARTICLE_FIELDS], n)
+            fields.update(zip(_PARTICLE_FIELDS, moved))
+            brows, (fields["bonds"],) = to_blocks(comm, brows, [fields["bonds"]], m)
+
+        def write():
+            g = self.snapshots.create_group(f"{index:05d}")
+            g.attrs["time"] = time
+            g.attrs["step"] = step
+            for name, (dt, tail) in spec.items():
+                total = m if name == "bonds" else n
+                ds = g.create_dataset(name, shape=(total, *tail), dtype=np.dtype(dt))
+                if total:
+                    write_rows(ds, brows if name == "bonds" else rows, fields[name])
+            for name, (dt, shape) in extra_spec.items():
+                ds = g.create_dataset(name, shape=shape, dtype=np.dtype(dt))
+                if shape[0]:
+                    mine = self.rank == 0
+                    write_rows(ds, np.arange(shape[0] if mine else 0),
+                               extra[name] if mine else np.zeros((0, *shape[1:]), dtype=np.dtype(dt)))
+
+        need = 2 * _nbytes(*fields.values())
+        need = int(self.comm.sum(float(need)))
+        self._write(f"snapshot {index}", write, need=need)
+        self._write(f"snapshot {index}", self.h5.flush)
+
+    def _write_snapshot_serial(self, index: int, time: float, step: int, arrays: dict) -> None:
         order = np.argsort(arrays["gid"], kind="stable")
         g = self.snapshots.create_group(f"{index:05d}")
         g.attrs["time"] = time
         g.attrs["step"] = step
-        for name in ("gid", "x", "v", "w", "radius", "kind"):
+        for name in _PARTICLE_FIELDS:
             g.create_dataset(name, data=arrays[name][order])
         bonds = arrays["bonds"].reshape(-1, 2)
-        g["bonds"] = bonds[np.lexsort((bonds[:, 1], bonds[:, 0]))] if len(bonds) else bonds
+        bonds = bonds[np.lexsort((bonds[:, 1], bonds[:, 0]))] if len(bonds) else bonds
+        g["bonds"] = bonds
+        for name, data in point_index_arrays(arrays["gid"][order], bonds).items():
+            g[name] = data
+
+    @classmethod
+    def open_for_restart(cls, path: str | os.PathLike, *, step: int, job=None, ranks: int = 1,
+                         restarted_from: str = "") -> "RunFile":
+        """Reopen a run file to continue it from a checkpoint of ``step``.
+
+        Keeps every row recorded up to that step and drops the series rows, broken-bond events and
+        snapshots recorded after it (the restarted run records them again, so none appears twice).
+        A crash may have left the series datasets at unequal lengths: their common part is kept.
+        """
+        self = cls.__new__(cls)
+        self.path = pathlib.Path(path)
+        if not self.path.is_file():
+            raise OutputError(f"{self.path}: run file not found; --restart continues the run file of the run "
+                              "that wrote the checkpoint: give it with -o")
+        try:
+            self.h5 = h5py.File(self.path, "r+")
+        except OSError as exc:
+            raise OutputError(f"{self.path}: cannot open the run file to continue it ({exc.strerror or exc})") from None
+        self.series = self.h5.require_group("series")
+        self.snapshots = self.h5.require_group("snapshots")
+        if "events/broken_bonds" not in self.h5:
+            self.h5.create_dataset("events/broken_bonds", shape=(0, 5), maxshape=(None, 5), dtype="f8",
+                                   chunks=(1024, 5))
+        self.events = self.h5["events/broken_bonds"]
+        rows = min((ds.shape[0] for ds in self.series.values()), default=0)
+        if "step" in self.series:  # steps increase row by row
+            rows = int(np.searchsorted(self.series["step"][:rows], step, side="right"))
+        for ds in self.series.values():
+            ds.resize(rows, axis=0)
+        self.rows = rows
+        events = self.events[()]
+        keep = events[:, 0] <= step
+        if not keep.all():
+            self.events.resize(int(keep.sum()), axis=0)
+            self.events[:] = events[keep]
+        for name in list(self.snapshots):
+            if self.snapshots[name].attrs.get("step", np.inf) > step:
+                del self.snapshots[name]
+        a = self.h5.attrs
+        a["status"] = "running"
+        a["ranks"] = ranks
+        a["restarts"] = int(a.get("restarts", 0)) + 1
+        a["restarted_from"] = str(restarted_from)
+        a["restart_step"] = step
+        if job is not None and a.get("job_text") != job.text:
+            a["job_text"] = job.text
         self.h5.flush()
+        return self
+
+    def flush(self) -> None:
+        """Push everything written so far to the file (before a checkpoint refers to it)."""
+        if self.h5:
+            self._write("the run file", self.h5.flush)
 
     def close(self, status: str = "finished") -> None:
-        if self.h5:
+        """Record the status and close (collective in the mpio mode). After a failed write it only
+        closes, quietly: the error that is already on its way is the one to report."""
+        if not self.h5:
+            return
+        if self.broken:  # HDF5 would fail again, or crash: leave the file as last flushed
+            self._drop()
+            return
+        ended = datetime.datetime.now(datetime.timezone.utc).isoformat()
+        if self.comm:
+            status, ended = self.comm.bcast((status, ended))
+        reason = None
+        try:
             self.h5.attrs["status"] = status
-            self.h5.attrs["ended"] = datetime.datetime.now(datetime.timezone.utc).isoformat()
+            self.h5.attrs["ended"] = ended
+        except (OSError, RuntimeError) as exc:
+            reason = _reason(exc)
+        try:
             self.h5.close()
-            self.h5 = None
+        except (OSError, RuntimeError) as exc:
+            reason = reason or _reason(exc)
+        self.h5 = None
+        reason = self._agree(reason)
+        if reason and not self.failed:
+            self.failed = f"{self.path}: closing the run file failed ({reason}); {_hint(reason)}"
+            raise OutputError(self.failed)
+
+
+_PARTICLE_FIELDS = ("gid", "x", "v", "w", "radius", "kind")
+_ABANDONED: list = []   # files dropped by RunFile.abandon (see there)

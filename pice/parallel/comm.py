@@ -41,6 +41,13 @@ class SerialComm:
     def gather(self, obj):
         return [obj]
 
+    def scatter(self, objs):
+        return objs[0]
+
+    def h5py_comm(self):
+        """No communicator: h5py opens files with its default (serial) driver."""
+        return None
+
     def alltoall(self, objs):
         return list(objs)
 
@@ -100,6 +107,14 @@ class MPIComm:
     def gather(self, obj):
         return self.comm.gather(obj, root=0)
 
+    def scatter(self, objs):
+        """objs[k] of rank 0's list arrives on rank k (objs is ignored on the other ranks)."""
+        return self.comm.scatter(objs if self.rank == 0 else None, root=0)
+
+    def h5py_comm(self):
+        """The mpi4py communicator object, for ``h5py.File(..., driver="mpio", comm=...)``."""
+        return self.comm
+
     def alltoall(self, objs):
         return self.comm.alltoall(list(objs))
 
@@ -133,6 +148,21 @@ def world():
         if comm.size > 1:
             return comm
     return SerialComm()
+
+
+def settle_all(timeout: float = 10.0) -> None:
+    """Wait (at most ``timeout`` s) until every rank of an MPI job gets here: before a rank ends its
+    process with os._exit, so that rank 0 has printed its message before the launcher ends the job."""
+    if launched_by_mpi():
+        import time
+
+        from mpi4py import MPI
+
+        if MPI.Is_initialized() and not MPI.Is_finalized() and MPI.COMM_WORLD.Get_size() > 1:
+            req = MPI.COMM_WORLD.Ibarrier()
+            end = time.monotonic() + timeout
+            while not req.Test() and time.monotonic() < end:
+                time.sleep(0.01)
 
 
 def abort_all(code: int = 1) -> None:

@@ -1,0 +1,200 @@
+"""Checkpoints: the whole state of a run in one HDF5 file, readable on any rank count.
+
+Layout::
+
+    /                attrs: format, format_version, pice_version, ranks, step, time, dt, job_text,
+                     job_source, physics (the job without [run] and [parallel], as JSON), written
+    /particles/<a>   every owned particle's per-particle arrays (state.PER_PARTICLE: positions,
+                     velocities, bond and contact histories, force and torque of the last step),
+                     sorted by gid
+    /decomposition/  x_cuts, y_cuts of the ranks that wrote it
+    /counters/       per writing rank: broken, contacts, contact_energy, wall_energy
+    /events/         the broken-bond log so far: step, time, gid_a, gid_b, mode, rank (who logged it)
+    /walls/total     (n_walls, 6) the reduced ice loads of the last step (when the job has walls)
+
+Rank 0 writes ``path + ".tmp"``, flushes and fsyncs it, then renames it over ``path``: a run killed
+at any moment leaves either the previous checkpoint or the new one, never a broken file.
+"""
+
+from __future__ import annotations
+
+import datetime
+import json
+import os
+import pathlib
+
+import h5py
+import numpy as np
+
+from .. import __version__
+from ..errors import PiceError
+from ..state import PER_PARTICLE
+
+FORMAT = "pice checkpoint"
+FORMAT_VERSION = 1
+COUNTERS = ("broken", "contacts", "contact_energy", "wall_energy")
+EVENT_FIELDS = ("step", "time", "gid_a", "gid_b", "mode", "rank")
+
+
+class CheckpointError(PiceError):
+    """A checkpoint cannot be written, read, or does not fit the job. Exit status 6."""
+
+    exit_code = 6
+
+
+def default_path(output) -> pathlib.Path:
+    """The checkpoint beside a run file: runs/demo.h5 -> runs/demo.ckpt.h5."""
+    out = pathlib.Path(output)
+    stem = out.name[:-len(out.suffix)] if out.suffix in (".h5", ".hdf5") else out.name
+    return out.with_name(stem + ".ckpt.h5")
+
+
+def physics_text(job) -> str:
+    """The job's physics as canonical JSON: everything but [run] (schedule) and [parallel] (layout).
+
+    dt is compared separately (it comes from [run] but changes the physics)."""
+    return json.dumps(job.model_dump(mode="json", exclude={"run", "parallel"}), sort_keys=True)
+
+
+def physics_differences(old: str, new: str, limit: int = 5) -> list[str]:
+    """Keys whose values differ between two physics_text strings, as 'key = new (checkpoint: old)'."""
+    def flat(obj, prefix=""):
+        if isinstance(obj, dict):
+            out = {}
+            for k, v in obj.items():
+                out.update(flat(v, f"{prefix}.{k}" if prefix else k))
+            return out
+        if isinstance(obj, list) and obj and all(isinstance(v, dict) for v in obj):
+            out = {}
+            for i, v in enumerate(obj):
+                out.update(flat(v, f"{prefix}[{i}]"))
+            return out
+        return {prefix: obj}
+
+    a, b = flat(json.loads(old)), flat(json.loads(new))
+    keys = sorted(k for k in set(a) | set(b) if a.get(k, "absent") != b.get(k, "absent"))
+    return [f"{k} = {json.dumps(b.get(k, 'absent'))} (checkpoint: {json.dumps(a.get(k, 'absent'))})"
+            for k in keys[:limit]]
+
+
+def write_checkpoint(sim, path) -> pathlib.Path:
+    """Write the state of ``sim`` to ``path`` (collective: every rank calls it; rank 0 writes).
+
+    Raises CheckpointError on every rank when rank 0 cannot write.
+    """
+    comm, p, c = sim.comm, sim.p, sim.c
+    sim.sync()  # both copies of every bond history agree
+    n = p.nlocal
+    part = {name: getattr(p, name)[:n] for name in PER_PARTICLE}
+    parts = comm.gather(part)
+    mine = (c.broken, c.contacts, c.contact_energy, c.wall_energy, list(c.events))
+    counters = comm.gather(mine)
+    path = pathlib.Path(path)
+    error = None
+    if comm.rank == 0:
+        try:
+            _write(sim, path, parts, counters)
+        except (OSError, ValueError, RuntimeError) as exc:
+            error = CheckpointError(f"{path}: cannot write the checkpoint ({getattr(exc, 'strerror', None) or exc}); "
+                                    "choose a writable path with run.checkpoint or free some disk space")
+    error = comm.bcast(error)
+    if error is not None:
+        raise error
+    return path
+
+
+def _write(sim, path: pathlib.Path, parts: list, counters: list) -> None:
+    gid = np.concatenate([q["gid"] for q in parts])
+    order = np.argsort(gid, kind="stable")
+    events = [(*e, r) for r, cnt in enumerate(counters) for e in cnt[4]]
+    tmp = path.with_name(path.name + ".tmp")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        _write_file(sim, tmp, gid, order, parts, counters, events)
+    except BaseException:
+        tmp.unlink(missing_ok=True)  # a full disk leaves no half-written .tmp behind
+        raise
+    os.replace(tmp, path)
+    try:  # make the rename itself durable
+        dfd = os.open(path.parent, os.O_RDONLY)
+        try:
+            os.fsync(dfd)
+        finally:
+            os.close(dfd)
+    except OSError:
+        pass
+
+
+def _write_file(sim, tmp: pathlib.Path, gid, order, parts, counters, events) -> None:
+    """The checkpoint's content into ``tmp``, flushed and fsync'd."""
+    with h5py.File(tmp, "w") as f:
+        a = f.attrs
+        a["format"] = FORMAT
+        a["format_version"] = FORMAT_VERSION
+        a["pice_version"] = __version__
+        a["ranks"] = sim.comm.size
+        a["step"] = sim.c.step
+        a["time"] = sim.c.time
+        a["dt"] = sim.dt
+        a["job_text"] = sim.job.text
+        a["job_source"] = sim.job.source
+        a["physics"] = physics_text(sim.job)
+        a["n_particles"] = len(gid)
+        a["written"] = datetime.datetime.now(datetime.timezone.utc).isoformat()
+        g = f.create_group("particles")
+        for name in PER_PARTICLE:
+            g.create_dataset(name, data=np.concatenate([q[name] for q in parts])[order])
+        d = f.create_group("decomposition")
+        d["x_cuts"] = sim.decomp.x_cuts
+        d["y_cuts"] = sim.decomp.y_cuts
+        cg = f.create_group("counters")
+        cg["broken"] = np.array([cnt[0] for cnt in counters], np.int64)
+        cg["contacts"] = np.array([cnt[1] for cnt in counters], np.int64)
+        cg["contact_energy"] = np.array([cnt[2] for cnt in counters], np.float64)
+        cg["wall_energy"] = np.array([cnt[3] for cnt in counters], np.float64)
+        eg = f.create_group("events")
+        for k, name in enumerate(EVENT_FIELDS):
+            dtype = np.float64 if name == "time" else np.int64
+            eg[name] = np.array([e[k] for e in events], dtype=dtype)
+        if sim.wall_total is not None:
+            f["walls/total"] = np.asarray(sim.wall_total, dtype=np.float64)
+        f.flush()
+    fd = os.open(tmp, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def read_checkpoint(path) -> dict:
+    """The checkpoint at ``path`` as a dict: attrs, particles, x_cuts, y_cuts, counters, events, wall_total.
+
+    Raises CheckpointError naming the file when it is missing or is not a pice checkpoint.
+    """
+    path = pathlib.Path(path)
+    if not path.is_file():
+        raise CheckpointError(f"{path}: checkpoint not found; give a file written by `pice run` "
+                              "(run.checkpoint, default <run>.ckpt.h5 beside the run file)")
+    try:
+        with h5py.File(path, "r") as f:
+            attrs = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in f.attrs.items()}
+            if attrs.get("format") != FORMAT:
+                raise CheckpointError(f"{path}: not a pice checkpoint (no format = {FORMAT!r} attribute); "
+                                      "a run file cannot be restarted from, only its checkpoint")
+            if int(attrs.get("format_version", 0)) > FORMAT_VERSION:
+                raise CheckpointError(f"{path}: checkpoint format {attrs['format_version']} is newer than this "
+                                      f"pice ({__version__}) reads ({FORMAT_VERSION}); upgrade pice")
+            missing = [n for n in PER_PARTICLE if n not in f["particles"]]
+            if missing:
+                raise CheckpointError(f"{path}: checkpoint lacks particle arrays {', '.join(missing)}")
+            return dict(
+                path=str(path), attrs=attrs,
+                particles={n: f["particles"][n][()] for n in PER_PARTICLE},
+                x_cuts=f["decomposition/x_cuts"][()], y_cuts=f["decomposition/y_cuts"][()],
+                counters={n: f["counters"][n][()] for n in COUNTERS},
+                events={n: f["events"][n][()] for n in EVENT_FIELDS},
+                wall_total=f["walls/total"][()] if "walls/total" in f else None)
+    except CheckpointError:
+        raise
+    except (OSError, KeyError) as exc:
+        raise CheckpointError(f"{path}: cannot read the checkpoint ({exc})") from None

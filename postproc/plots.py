@@ -1,0 +1,149 @@
+"""Time-history figures of a run file (PNG, matplotlib's Agg backend, so no display is needed).
+
+``plot_run("runs/x.h5", "runs/x_plots")`` writes one PNG per figure whose series the run holds:
+
+* ``ice_loads.png``: force of the ice on each wall (Fx, Fy, Fz and |F|, kN) against time, and their
+  sum when there are several walls;
+* ``energies.png``: the change of each energy since t = 0 (kJ);
+* ``broken_bonds.png``: cumulative broken bonds against time, by failure mode (from the event log).
+
+A figure whose series are absent is skipped. Every figure is ``FIGSIZE`` at ``DPI``
+(1000 x 700 pixels).
+"""
+
+from __future__ import annotations
+
+import os
+import pathlib
+
+import numpy as np
+
+FIGSIZE = (10.0, 7.0)  # inches
+DPI = 100
+MAX_WALL_PANELS = 6    # more walls than this: only their sum is drawn
+
+
+def _figure(nrows: int = 1):
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(nrows, 1, figsize=FIGSIZE, dpi=DPI, sharex=True, squeeze=False)
+    return fig, axes[:, 0]
+
+
+def _save(fig, path: pathlib.Path) -> pathlib.Path:
+    import matplotlib.pyplot as plt
+
+    fig.savefig(path, dpi=DPI)  # no bbox_inches="tight": the pixel size stays FIGSIZE x DPI
+    plt.close(fig)
+    return path
+
+
+def _title(run) -> str:
+    src = run.h5.attrs.get("job_source", "")
+    return f"{pathlib.Path(str(src)).stem or run.path.stem}  ({run.path.name})"
+
+
+def ice_loads(run, out: pathlib.Path):
+    s = run.h5.get("series")
+    if s is None or "wall_force" not in s or "time" not in s or s["wall_force"].shape[1] == 0:
+        return None
+    t = s["time"][()]
+    f = s["wall_force"][()] / 1e3  # (rows, walls, 3) kN
+    names = run.wall_names() or [f"wall{k}" for k in range(f.shape[1])]
+    panels = [(f"ice load on {names[k]}", f[:, k]) for k in range(f.shape[1])] if f.shape[1] <= MAX_WALL_PANELS else []
+    if f.shape[1] > 1:
+        panels.append((f"ice load on all {f.shape[1]} walls (sum)", f.sum(axis=1)))
+    fig, axes = _figure(len(panels))
+    for ax, (label, fk) in zip(axes, panels):
+        for c, comp in enumerate("xyz"):
+            ax.plot(t, fk[:, c], lw=1.2, label=f"F{comp}")
+        ax.plot(t, np.linalg.norm(fk, axis=1), "k--", lw=0.8, label="|F|")
+        ax.set_ylabel("force [kN]")
+        ax.set_title(label, fontsize=10)
+        ax.grid(alpha=0.3)
+        ax.legend(loc="upper left", fontsize=8, ncol=4)
+    axes[-1].set_xlabel("t [s]")
+    fig.suptitle(f"Ice loads: {_title(run)}", fontsize=11)
+    fig.tight_layout()
+    return _save(fig, out / "ice_loads.png")
+
+
+def energies(run, out: pathlib.Path):
+    s = run.h5.get("series")
+    names = sorted(k for k in (s or {}) if k.endswith("_energy")) if s is not None else []
+    if not names or "time" not in s:
+        return None
+    t = s["time"][()]
+    fig, (ax,) = _figure(1)
+    for name in names:
+        e = s[name][()]
+        style = dict(color="k", lw=2.0) if name == "total_energy" else dict(lw=1.2)
+        ax.plot(t, (e - e[0]) / 1e3, label=name.replace("_energy", ""), **style)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("E(t) - E(0) [kJ]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, ncol=2)
+    ax.set_title(f"Energies: {_title(run)}", fontsize=11)
+    fig.tight_layout()
+    return _save(fig, out / "energies.png")
+
+
+def broken_bonds(run, out: pathlib.Path):
+    s = run.h5.get("series")
+    if s is None or "broken_bonds" not in s or "time" not in s:
+        return None
+    t = s["time"][()]
+    fig, (ax,) = _figure(1)
+    ev = run.h5["events/broken_bonds"][()] if "events/broken_bonds" in run.h5 else np.zeros((0, 5))
+    t_end = float(t[-1]) if len(t) else 0.0
+    if len(ev):
+        ev = ev[np.argsort(ev[:, 1], kind="stable")]
+        for label, mask in (("all", np.ones(len(ev), bool)), ("tension + bending", ev[:, 4] == 1),
+                            ("shear + twist", ev[:, 4] == 2)):
+            te = ev[mask, 1]
+            if label != "all" and not len(te):
+                continue
+            ax.step(np.concatenate([[0.0], te, [t_end]]), np.concatenate([[0], np.arange(1, len(te) + 1), [len(te)]]),
+                    where="post", lw=2.0 if label == "all" else 1.2, label=label)
+    ax.plot(t, s["broken_bonds"][()], "k.", ms=4, label="series rows")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("broken bonds (cumulative)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+    ax.set_title(f"Broken bonds: {_title(run)}", fontsize=11)
+    fig.tight_layout()
+    return _save(fig, out / "broken_bonds.png")
+
+
+# each figure: builder(run, out_dir) -> path or None when the run lacks its series
+FIGURES = (ice_loads, energies, broken_bonds)
+
+
+def default_out_dir(run_path) -> pathlib.Path:
+    p = pathlib.Path(run_path)
+    return p.with_name(p.stem + "_plots")
+
+
+def plot_run(run_path: str | os.PathLike, out_dir: str | os.PathLike | None = None) -> list[pathlib.Path]:
+    """Write the PNG figures of a run into ``out_dir`` (default ``<run>_plots/``); return their paths."""
+    from pice.io.run_file import OutputError
+    from pice.io.vtk_export import open_run
+
+    out = pathlib.Path(out_dir) if out_dir is not None else default_out_dir(run_path)
+    written = []
+    with open_run(run_path) as run:
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise OutputError(f"{out}: cannot create the output folder ({exc.strerror or exc})") from None
+        for figure in FIGURES:
+            try:
+                path = figure(run, out)
+            except OSError as exc:
+                raise OutputError(f"{out}: cannot write {figure.__name__} ({exc.strerror or exc})") from None
+            if path is not None:
+                written.append(path)
+    return written
