@@ -14,7 +14,7 @@ def launch_rank() -> int:
             try:
                 return int(os.environ[var])
             except ValueError:
-                pass
+                continue  # not a number: try the next launcher's variable
     return 0
 
 

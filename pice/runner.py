@@ -160,7 +160,7 @@ class _StopRequest:
             for sig in self.SIGNALS:
                 self.previous[sig] = signal.signal(sig, self._handler)
         except ValueError:  # not the main thread: no handler, no graceful stop
-            pass
+            self.previous.clear()
         return self
 
     def restore(self) -> None:

@@ -219,12 +219,13 @@ def _hdf5_meets_a_full_disk(tmp: pathlib.Path, disk: pathlib.Path, ranks: int, m
     assert f"{out}: writing" in res.stderr and "No space left on device" in res.stderr, res.stderr[-3000:]
     assert "disk is full" in res.stderr and "Traceback" not in res.stderr, res.stderr[-3000:]
     _check_kept(out)
+    return res.returncode
 
 
 def test_full_disk_inside_hdf5_exits_cleanly(tmp_path):
     _serial_only()
     with tiny_tmpfs(tmp_path / "disk", "400k") as disk:
-        _hdf5_meets_a_full_disk(tmp_path / "job", disk, 1)
+        assert _hdf5_meets_a_full_disk(tmp_path / "job", disk, 1) == 4  # exit status of OutputError
 
 
 # --------------------------------------------------------------------------- the mpio writer, 2 ranks

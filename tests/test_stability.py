@@ -213,7 +213,8 @@ def test_override_at_twice_the_limit_stops(tmp_path, monkeypatch):
     """
     stable = _stable_bound()
     monkeypatch.setattr("pice.runner.Simulation", _Disturbed)
-    _run_overridden(_job(2.0 * stable, allow=True, duration=3000 * 2.0 * stable), tmp_path / "u.h5")
+    msg = _run_overridden(_job(2.0 * stable, allow=True, duration=3000 * 2.0 * stable), tmp_path / "u.h5")
+    assert "stability limit" in msg
 
 
 @pytest.mark.parametrize("factor", [1.1, 2.0, 10.0])

@@ -55,7 +55,8 @@ class SerialComm:
         return sendbuf.copy(), np.asarray(sendcounts)
 
     def barrier(self):
-        pass
+        """Nothing to wait for on one rank."""
+        return None
 
     def abort(self, code: int = 1):
         raise SystemExit(code)
