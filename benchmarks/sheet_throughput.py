@@ -16,17 +16,10 @@ import numpy as np
 
 
 def build(length: float, width: float):
-    from pice.job import parse_job
+    from pice.scenes.reference import zhu_ji_sheet_job
     from pice.simulation import Simulation
 
-    job = parse_job({
-        "run": {"duration": 200.0},
-        "water": {"density": 1035.0, "current": [1.0, 0.0], "drag_coefficient": 1.0},
-        "ice": {"length": length, "width": width, "density": 920.0, "velocity": [1.0, 0.0]},
-        "bond": {"normal_stiffness": 1.72e7, "shear_stiffness": 1.72e6, "normal_strength": 1.5e6,
-                 "shear_strength": 1.5e6, "friction": 0.3},
-    }, source="benchmark")
-    return Simulation(job)
+    return Simulation(zhu_ji_sheet_job(length=length, width=width, source="benchmark"))
 
 
 def break_random_bonds(sim, count: int, seed: int = 1) -> int:

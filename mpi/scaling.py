@@ -23,19 +23,12 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
 def measure(steps: int, warmup: int, length: float, width: float, repeat: int) -> None:
-    from pice.job import parse_job
     from pice.parallel.comm import world
+    from pice.scenes.reference import zhu_ji_sheet_job
     from pice.simulation import Simulation
 
     comm = world()
-    job = parse_job({
-        "run": {"duration": 200.0},
-        "water": {"density": 1035.0, "current": [1.0, 0.0], "drag_coefficient": 1.0},
-        "ice": {"length": length, "width": width, "density": 920.0, "velocity": [1.0, 0.0]},
-        "bond": {"normal_stiffness": 1.72e7, "shear_stiffness": 1.72e6, "normal_strength": 1.5e6,
-                 "shear_strength": 1.5e6, "friction": 0.3},
-        "parallel": {"balance_every": 0},
-    }, source="scaling")
+    job = zhu_ji_sheet_job(length=length, width=width, source="scaling", parallel={"balance_every": 0})
     sim = Simulation(job, comm=comm)
     sim.advance(warmup)
     best = None

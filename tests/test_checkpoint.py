@@ -21,6 +21,7 @@ import time
 import h5py
 import numpy as np
 import pytest
+from launcher import clean_env as _clean_env
 
 from pice.cli import main
 from pice.io.checkpoint import CheckpointError, default_path, read_checkpoint, write_checkpoint
@@ -54,12 +55,6 @@ def demo_job(folder: pathlib.Path, name: str = "ckpt", *, steps: int = STEPS, ck
     job = folder / f"{name}.toml"
     job.write_text(text)
     return job
-
-
-def _clean_env():
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PMI_", "OMPI_", "PMIX_", "HYDRA_", "MPI_"))}
-    env["PATH"] = f"{BIN}{os.pathsep}{env.get('PATH', '')}"
-    return env
 
 
 def _cmd(job, out, ranks, *extra):

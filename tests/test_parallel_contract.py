@@ -19,6 +19,7 @@ import sys
 import h5py
 import numpy as np
 import pytest
+from launcher import clean_env as _clean_env
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 BIN = pathlib.Path(sys.executable).parent
@@ -39,12 +40,6 @@ def contract_job(tmp_path: pathlib.Path) -> pathlib.Path:
     job = tmp_path / "contract.toml"
     job.write_text(text)
     return job
-
-
-def _clean_env():
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PMI_", "OMPI_", "PMIX_", "HYDRA_", "MPI_"))}
-    env["PATH"] = f"{BIN}{os.pathsep}{env.get('PATH', '')}"
-    return env
 
 
 def _run(job: pathlib.Path, out: pathlib.Path, ranks: int) -> None:

@@ -23,6 +23,7 @@ import types
 import h5py
 import numpy as np
 import pytest
+from launcher import clean_env as _clean_env
 
 from pice.io import mpio
 from pice.io.mpio import MODE_ENV, choose_mode, h5py_has_mpi
@@ -197,12 +198,6 @@ run_file.SPACE_MARGIN = -10**15   # no free-space check: HDF5 itself meets ENOSP
 from pice.cli import main
 sys.exit(main(sys.argv[1:]))
 """
-
-
-def _clean_env():
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PMI_", "OMPI_", "PMIX_", "HYDRA_", "MPI_"))}
-    env["PATH"] = f"{pathlib.Path(sys.executable).parent}{os.pathsep}{env.get('PATH', '')}"
-    return env
 
 
 def _hdf5_meets_a_full_disk(tmp: pathlib.Path, disk: pathlib.Path, ranks: int, mode: str = "auto"):
