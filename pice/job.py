@@ -11,44 +11,16 @@ import math
 import pathlib
 from typing import Annotated, Any, Literal, Optional, Union, get_args, get_origin
 
-from pydantic import BaseModel, ConfigDict, Field, Strict, StrictBool, ValidationError, model_validator
+from pydantic import BaseModel, Field, StrictBool, ValidationError, model_validator
 
 from .errors import JobError
+from .job_platform import BodySpec, MooringSpec, check_platform
+from .job_types import Vec2, Vec3, _Bound, _count, _q, _Real, _Section, _vec
 
 try:  # Python >= 3.11
     import tomllib
 except ModuleNotFoundError:  # pragma: no cover
     import tomli as tomllib
-
-
-def _q(unit: str, gt: float | None = 0.0, ge: float | None = None, le: float | None = None, lt: float | None = None):
-    """A float quantity with a unit (shown in error messages) and bounds.
-
-    Strict: a TOML integer or float is accepted, a string or boolean is not (``"1.0"`` is a typo,
-    not a number).
-    """
-    kw = {k: v for k, v in dict(gt=gt, ge=ge, le=le, lt=lt).items() if v is not None}
-    return Annotated[float, Strict(), Field(json_schema_extra={"unit": unit}, allow_inf_nan=False, **kw)]
-
-
-def _count(ge: int):
-    """A whole number >= ``ge`` (strict: 2.5, 2.0, "2" and true are refused)."""
-    return Annotated[int, Strict(), Field(ge=ge)]
-
-
-def _vec(vec, unit: str):
-    """A fixed-length vector field whose unit is shown in error messages."""
-    return Annotated[vec, Field(json_schema_extra={"unit": unit})]
-
-
-_Real = Annotated[float, Strict(), Field(allow_inf_nan=False)]  # a finite number
-_Bound = Annotated[float, Strict()]  # a region bound: a number, +-inf allowed
-Vec2 = tuple[_Real, _Real]
-Vec3 = tuple[_Real, _Real, _Real]
-
-
-class _Section(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=False)
 
 
 class RunSpec(_Section):
@@ -76,6 +48,7 @@ class WaterSpec(_Section):
     current: _vec(Vec2, "m/s") = (0.0, 0.0)
     drag_coefficient: _q("", gt=None, ge=0.0) = 1.0
     heave_damping_ratio: _q("", gt=None, ge=0.0, lt=1.0) = 0.0
+    depth: Optional[_q("m")] = None  # still-water depth to the flat seabed (mooring lines need it)
 
 
 class PushSpec(_Section):
@@ -210,6 +183,8 @@ class Job(_Section):
     walls: tuple[WallSpec, ...] = ()
     loads: tuple[LoadSpec, ...] = ()
     fixes: tuple[FixSpec, ...] = ()
+    bodies: tuple[BodySpec, ...] = ()
+    moorings: tuple[MooringSpec, ...] = ()
     parallel: ParallelSpec = ParallelSpec()
     source: str = Field(default="", exclude=True)
     text: str = Field(default="", exclude=True)
@@ -264,6 +239,7 @@ class Job(_Section):
                 f"must be < water.density = {self.water.density} kg/m^3, else the ice sinks")
         if run.dt != "auto" and run.dt >= run.duration:
             bad(("run", "dt"), run.dt, f"must be < run.duration = {run.duration} s")
+        check_platform(self, bad)
         if problems:
             raise _Located.group(problems)
         return self
@@ -493,6 +469,10 @@ def parse_job(data: dict, source: str = "<job>", text: str = "", base_dir: pathl
     for k, wall in enumerate(job.walls):
         if wall.type == "mesh" and not (base / wall.file).is_file():
             raise JobError(f"{source}: walls[{k}].file = {wall.file!r}: file not found "
+                           f"(paths are relative to the job file's folder {str(base)!r})")
+    for k, body in enumerate(job.bodies):
+        if body.hull.type == "mesh" and not (base / body.hull.file).is_file():
+            raise JobError(f"{source}: bodies[{k}].hull.file = {body.hull.file!r}: file not found "
                            f"(paths are relative to the job file's folder {str(base)!r})")
     return job
 

@@ -88,13 +88,15 @@ class _Output:
         n = p.nlocal
         part = dict(gid=p.gid[:n].copy(), x=p.x[:n].copy(), v=p.v[:n].copy(), w=p.w[:n].copy(),
                     radius=p.radius[:n].copy(), kind=p.kind[:n].copy(), bonds=p.intact_bonds())
+        extras = self.sim.platform_snapshot(first=index == 0)  # rank 0's bodies and lines (None elsewhere)
         if self.mode == "mpio":  # collective: each rank writes its part at its gid-sorted place
-            self.file.write_snapshot_arrays(index, time=self.sim.c.time, step=self.sim.c.step, arrays=part)
+            self.file.write_snapshot_arrays(index, time=self.sim.c.time, step=self.sim.c.step, arrays=part,
+                                            extras=extras)
             return
         parts = self.comm.gather(part)
         self._write(lambda: self.file.write_snapshot_arrays(
             index, time=self.sim.c.time, step=self.sim.c.step,
-            arrays={k: np.concatenate([q[k] for q in parts]) for k in part}))
+            arrays={k: np.concatenate([q[k] for q in parts]) for k in part}, extras=extras))
 
     def _write(self, write):
         """Every rank holding the file calls ``write`` (gathered: rank 0 only); an OutputError (a full

@@ -18,6 +18,7 @@ import numpy as np
 from .errors import InstabilityError
 from .kernels.bonds import bond_energy, bond_forces, sync_mate_history
 from .kernels.contacts import contact_forces
+from .kernels.hull_contact import hull_forces
 from .kernels.hydro import buoyancy_potential
 from .kernels.integrate import drift, kick, max_step_displacement
 from .kernels.walls import wall_forces
@@ -71,10 +72,14 @@ class Simulation:
         self.water = water_array(job)
         from .parallel.coupling import BodyCoupling
 
-        self.coupling = BodyCoupling(self.comm, len(job.walls))
+        self._set_up_bodies(base_dir)
+        # one reduction per step carries the loads on every [[walls]] entry and every body
+        self.coupling = BodyCoupling(self.comm, len(job.walls) + len(self.hulls))
         self.wall_total = None
+        self.body_total = None
+        self._peaks = None  # rank 0: load extremes since the last series row (_track_peaks)
         self.gravity = job.gravity
-        p.allocate_dynamic(len(kinds))
+        p.allocate_dynamic(len(kinds), len(self.hulls))
         p.heave_damping = heave_damping(job, p)
         self._apply_loads_and_fixes()
         self._refuse_initial_wall_overlap()
@@ -141,13 +146,55 @@ class Simulation:
             p.fix_velocity[sel, 0] = job.ice.push.speed
             p.v[sel, 0] = job.ice.push.speed
 
-    def _refuse_initial_wall_overlap(self) -> None:
-        """A wall that cuts into the ice at t = 0 would fire elements off: refuse it with the fix."""
-        from .errors import JobError
+    def _set_up_bodies(self, base_dir) -> None:
+        """Hull geometry on every rank; rank 0 builds the bodies and lines; the poses reach every rank."""
+        from .errors import PiceError
 
+        self.hulls, self.platform = [], None
+        self.poses = np.zeros((0, 13))
+        if not self.job.bodies:
+            return
+        from .scenes.platform import build_platform, hulls_from_job
+
+        self.hulls = hulls_from_job(self.job, default_kn=float(self.contact_params[0]),
+                                    reach=float(self.p.radius.max()), base_dir=base_dir)
+        error = None
+        if self.comm.rank == 0:
+            try:
+                self.platform = build_platform(self.job, self.hulls)
+            except PiceError as exc:
+                error = exc
+        error = self.comm.bcast(error)
+        if error is not None:
+            raise error
+        self.broadcast_poses()
+
+    def broadcast_poses(self) -> None:
+        """Rank 0's body poses (x, q, v, omega per body) onto every rank."""
+        poses = self.platform.poses() if self.platform is not None else np.zeros((len(self.hulls), 13))
+        self.poses = self.comm.bcast_array(poses)
+
+    def _refuse_initial_wall_overlap(self) -> None:
+        """A wall or hull that cuts into the ice at t = 0 would fire elements off: refuse it with the fix."""
+        from .errors import JobError
+        from .kernels.hull_contact import hull_forces
+
+        p = self.p
+        for k, h in enumerate(self.hulls):
+            f, t = np.zeros((p.n, 3)), np.zeros((p.n, 3))
+            params = h.params.copy()
+            params[1:] = 0.0
+            pose = self.poses[k].copy()
+            pose[7:] = 0.0
+            hull_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, pose,
+                        h.vertices, h.triangles, *h.grid, params, np.zeros((p.n, 3)), 0.0, f, t)
+            n_el = int(np.count_nonzero(np.abs(f).sum(axis=1) > 0))  # the whole sheet, before distribution
+            if n_el:
+                raise JobError(f"{self.job.source}: bodies[{k}] ({h.name}): its hull overlaps {int(n_el)} ice "
+                               "element(s) at t = 0; move the body (bodies.position) or the sheet (ice.origin) "
+                               "so that they start apart")
         if not len(self.wall_kinds):
             return
-        p = self.p
         f, t, wf = np.zeros((p.n, 3)), np.zeros((p.n, 3)), np.zeros((len(self.wall_kinds), 3))
         params = self.wall_params.copy()
         params[:, 1:] = 0.0  # elastic normal force only
@@ -246,6 +293,14 @@ class Simulation:
                     zip(ev["step"][keep], ev["time"][keep], ev["gid_a"][keep], ev["gid_b"][keep], ev["mode"][keep])]
         wt = comm.bcast(data["wall_total"] if r == 0 else None)
         self.wall_total = None if (wt is None or r != 0) else np.array(wt)
+        if self.platform is not None:
+            state = data.get("platform")
+            if state is None:
+                raise CheckpointError(f"{where}: holds no bodies, but {self.job.source} has [[bodies]]")
+            self.platform.set_state(state)
+            self.body_total = self.platform.ice.copy()
+        if self.hulls:
+            self.broadcast_poses()
 
     def rebuild_for_checkpoint(self) -> None:
         """Migrate and rebuild the ghosts now, as a restart from a checkpoint of this step does.
@@ -296,7 +351,7 @@ class Simulation:
 
     def _time_step(self):
         p, b = self.p, self.bond
-        kw = float(self.wall_params[:, 0].max()) if len(self.wall_params) else 0.0
+        kw = max([0.0] + [float(k) for k in self.wall_params[:, 0]] + [float(h.params[0]) for h in self.hulls])
         i = int(np.argmin(p.mass))
         stable, why = stable_step(mass=float(p.mass[i]), inertia=float(p.inertia[i]), d=self.sheet.spacing,
                                   n_layers=self.sheet.n_layers, bond=(b.kn, b.ks, b.kt, b.kb),
@@ -331,23 +386,59 @@ class Simulation:
                                         p.force, p.torque, self.wall_force, self.wall_moment)
         hydro_forces(p.nlocal, p.x, p.v, p.radius, p.mass, p.cell_area, p.half_height, self.gravity,
                      self.water, p.heave_damping, p.force)
-        if len(self.job.walls):
-            self.wall_total = self.coupling.reduce_loads(self._local_wall_loads())
+        nw = len(self.job.walls)
+        if nw or self.hulls:
+            local = np.zeros((nw + len(self.hulls), 6))
+            local[:nw] = self._local_wall_loads()
+            for k, h in enumerate(self.hulls):
+                local[nw + k] = hull_forces(p.nlocal, p.x, p.v, p.w, p.radius, p.mass, self.poses[k], h.vertices,
+                                            h.triangles, *h.grid, h.params, p.hull_hist[:, k, :], self.dt,
+                                            p.force, p.torque)
+            total = self.coupling.reduce_loads(local)  # on rank 0, None elsewhere
+            if total is not None:
+                self.wall_total, self.body_total = total[:nw], total[nw:]
+            if self.platform is not None:
+                self.platform.loads(self.body_total)
+                self._track_peaks()
+
+    def _track_peaks(self) -> None:
+        """Rank 0: extremes and sums of the ice loads and line tensions since the last series row, so
+        that rows every N steps still report the peaks designers need."""
+        ice, pf = self.body_total[:, :3], self.platform
+        tension = pf.fairlead_tensions()
+        t = self._peaks
+        if t is None:
+            self._peaks = dict(n=1, ice_sum=ice.copy(), ice_max=ice.copy(), ice_min=ice.copy(),
+                               tension_max=tension.copy())
+            return
+        t["n"] += 1
+        t["ice_sum"] += ice
+        np.maximum(t["ice_max"], ice, out=t["ice_max"])
+        np.minimum(t["ice_min"], ice, out=t["ice_min"])
+        np.maximum(t["tension_max"], tension, out=t["tension_max"])
 
     def step(self) -> None:
         p, dt = self.p, self.dt
         half = 0.5 * dt
+        platform = self.platform
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
         drift(p.nlocal, p.x, p.v, dt)
+        if platform is not None:  # rank 0: bodies and lines to t + dt
+            platform.kick(half)
+            platform.drift(dt)
         self.c.step += 1
         self.c.time = self.c.step * dt
         t0 = perf_counter()
+        if self.hulls:
+            self.broadcast_poses()
         self.exchange()
         t1 = perf_counter()
         self.compute_forces()
         self.wall_clock["exchange"] += t1 - t0
         self.wall_clock["forces"] += perf_counter() - t1
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
+        if platform is not None:
+            platform.kick(half)
 
     def advance(self, nsteps: int) -> None:
         """Take ``nsteps`` steps, checking for runaway motion every ``run.check_every`` steps."""
@@ -429,6 +520,48 @@ class Simulation:
         if loads is not None:
             row["wall_force"] = loads[:, :3]
             row["wall_moment"] = loads[:, 3:]
+        if self.platform is not None:
+            row.update(self.platform_row())
+        return row
+
+    def platform_snapshot(self, first: bool = False) -> dict | None:
+        """Rank 0's snapshot arrays of the bodies and lines: body_pose (n_bodies, 13), mooring_x
+        (k, 3) points along the lines [m] and mooring_line (k,) the line of each; the first snapshot
+        also holds each hull in its body frame (hull<k>_vertices, hull<k>_triangles). None elsewhere."""
+        pf = self.platform
+        if pf is None:
+            return None
+        out = {"body_pose": pf.poses()}
+        if first:
+            for k, h in enumerate(self.hulls):
+                out[f"hull{k}_vertices"] = h.vertices
+                out[f"hull{k}_triangles"] = h.triangles
+        if pf.n_lines:
+            x, line = pf.polylines()
+            out.update(mooring_x=x, mooring_line=line)
+        return out
+
+    def platform_row(self) -> dict[str, np.ndarray]:
+        """Rank 0's series entries of the bodies and lines (SI units, angles in rad)."""
+        from .physics.body import euler_angles
+
+        pf = self.platform
+        ice = self.body_total if self.body_total is not None else np.zeros((len(pf.bodies), 6))
+        row = dict(body_position=np.array([b.x for b in pf.bodies]),
+                   body_rotation=np.array([euler_angles(b.q) for b in pf.bodies]),
+                   body_velocity=np.array([b.v for b in pf.bodies]),
+                   body_angular_velocity=np.array([b.omega for b in pf.bodies]),
+                   ice_force=ice[:, :3].copy(), ice_moment=ice[:, 3:].copy(),
+                   mooring_force=pf.mooring_force.copy())
+        t = self._peaks
+        if t is not None:  # over the steps since the previous row (this row's step included)
+            row.update(ice_force_mean=t["ice_sum"] / t["n"], ice_force_max=t["ice_max"], ice_force_min=t["ice_min"])
+        if pf.n_lines:
+            row["fairlead_tension"] = pf.fairlead_tensions()
+            row["anchor_tension"] = pf.anchor_tensions()
+            if t is not None:
+                row["fairlead_tension_max"] = t["tension_max"]
+        self._peaks = None
         return row
 
     def describe(self) -> dict:
@@ -441,7 +574,16 @@ class Simulation:
                     dt_governed_by=self.limit.governed_by, steps_per_second=1.0 / self.dt,
                     bond_kn=self.bond.kn, bond_ks=self.bond.ks, bond_kb=self.bond.kb, bond_kt=self.bond.kt,
                     normal_strength=self.bond.normal_strength, shear_strength=self.bond.shear_strength,
-                    bond_friction=self.bond.friction, element_mass=float(p.mass[0]))
+                    bond_friction=self.bond.friction, element_mass=float(p.mass[0]), **self._describe_platform())
+
+    def _describe_platform(self) -> dict:
+        pf = self.platform
+        if pf is None:
+            return {}
+        nodes = sum(len(g.lines.x) for g in pf.groups if hasattr(g.lines, "x"))
+        sub = max(1, int(math.ceil(self.dt / pf.line_dt - 1e-12))) if math.isfinite(pf.line_dt) else 0
+        return dict(bodies=len(pf.bodies), body_mass=[b.mass for b in pf.bodies], mooring_lines=pf.n_lines,
+                    mooring_nodes=nodes, mooring_substeps=sub)
 
     @property
     def total_steps(self) -> int:

@@ -29,7 +29,7 @@ KIND_ICE = 0
 # incremental bond and contact histories a second time.
 PER_PARTICLE = ("gid", "x", "v", "w", "radius", "mass", "inertia", "kind", "volume", "cell_area",
                 "half_height", "bond_gid", "bond_mate", "bond_L0", "bond_hist", "ext_force", "fix_mask",
-                "fix_velocity", "contact_gid", "contact_stamp", "contact_hist", "wall_hist", "heave_damping",
+                "fix_velocity", "contact_gid", "contact_stamp", "contact_hist", "wall_hist", "hull_hist", "heave_damping",
                 "force", "torque")
 
 
@@ -62,6 +62,7 @@ class Particles:
     contact_stamp: np.ndarray = field(default=None)  # (n,MAX_CONTACTS) int64, step last touched
     contact_hist: np.ndarray = field(default=None)  # (n,MAX_CONTACTS,3) tangential force [N]
     wall_hist: np.ndarray = field(default=None)     # (n,n_walls,3) tangential force [N]
+    hull_hist: np.ndarray = field(default=None)     # (n,n_bodies,3) tangential force on each hull [N]
     heave_damping: np.ndarray = field(default=None)  # (n,) linear heave damping [N s/m]
     nlocal: int = 0
 
@@ -69,7 +70,7 @@ class Particles:
     def n(self) -> int:
         return len(self.gid)
 
-    def allocate_dynamic(self, n_walls: int) -> None:
+    def allocate_dynamic(self, n_walls: int, n_bodies: int = 0) -> None:
         """Allocate force, constraint and contact-history arrays (zeroed)."""
         n = self.n
         self.force = np.zeros((n, 3))
@@ -83,6 +84,7 @@ class Particles:
         self.contact_stamp = np.full((n, MAX_CONTACTS), -10, dtype=np.int64)
         self.contact_hist = np.zeros((n, MAX_CONTACTS, 3))
         self.wall_hist = np.zeros((n, max(n_walls, 1), 3))
+        self.hull_hist = np.zeros((n, max(n_bodies, 1), 3))
         if self.heave_damping is None:
             self.heave_damping = np.zeros(n)
 

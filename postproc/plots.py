@@ -4,6 +4,8 @@
 
 * ``ice_loads.png``: force of the ice on each wall (Fx, Fy, Fz and |F|, kN) against time, and their
   sum when there are several walls;
+* ``platform.png``: per body, the ice load (with its range between series rows), the offset and
+  rotation from t = 0, and every fairlead tension (MN);
 * ``energies.png``: the change of each energy since t = 0 (kJ);
 * ``broken_bonds.png``: cumulative broken bonds against time, by failure mode (from the event log).
 
@@ -118,8 +120,51 @@ def broken_bonds(run, out: pathlib.Path):
     return _save(fig, out / "broken_bonds.png")
 
 
+def platform(run, out: pathlib.Path):
+    """Per body: ice load (with the peaks between rows), offset from the start, rotation, and the
+    fairlead tensions (MN)."""
+    s = run.h5.get("series")
+    if s is None or "body_position" not in s or "time" not in s:
+        return None
+    t = s["time"][()]
+    has_lines = "fairlead_tension" in s and s["fairlead_tension"].shape[1] > 0
+    fig, axes = _figure(4 if has_lines else 3)
+    f = s["ice_force"][()] / 1e6
+    for k in range(f.shape[1]):
+        for c, comp in enumerate("xyz"):
+            line, = axes[0].plot(t, f[:, k, c], lw=1.2, label=f"body {k}: F{comp}")
+            if "ice_force_max" in s:
+                axes[0].fill_between(t, s["ice_force_min"][:, k, c] / 1e6, s["ice_force_max"][:, k, c] / 1e6,
+                                     color=line.get_color(), alpha=0.2, lw=0)
+    axes[0].set_ylabel("ice load [MN]")
+    axes[0].set_title("ice load on the hull (shaded: range between series rows)", fontsize=10)
+    x = s["body_position"][()]
+    for k in range(x.shape[1]):
+        for c, comp in enumerate(("surge", "sway", "heave")):
+            axes[1].plot(t, x[:, k, c] - x[0, k, c], lw=1.2, label=f"body {k}: {comp}")
+    axes[1].set_ylabel("offset from t = 0 [m]")
+    r = np.degrees(s["body_rotation"][()])
+    for k in range(r.shape[1]):
+        for c, comp in enumerate(("roll", "pitch", "yaw")):
+            axes[2].plot(t, r[:, k, c], lw=1.2, label=f"body {k}: {comp}")
+    axes[2].set_ylabel("rotation [deg]")
+    if has_lines:
+        ft = s["fairlead_tension"][()] / 1e6
+        for j in range(ft.shape[1]):
+            axes[3].plot(t, ft[:, j], lw=0.8, label=f"line {j}" if ft.shape[1] <= 12 else None)
+        axes[3].set_ylabel("fairlead tension [MN]")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(loc="upper left", fontsize=7, ncol=6)
+    axes[-1].set_xlabel("t [s]")
+    fig.suptitle(f"Moored platform: {_title(run)}", fontsize=11)
+    fig.tight_layout()
+    return _save(fig, out / "platform.png")
+
+
 # each figure: builder(run, out_dir) -> path or None when the run lacks its series
-FIGURES = (ice_loads, energies, broken_bonds)
+FIGURES = (ice_loads, platform, energies, broken_bonds)
 
 
 def default_out_dir(run_path) -> pathlib.Path:

@@ -19,7 +19,6 @@ with zero bond energy), i.e. the energy that is available to oscillate.
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from pice.job import parse_job
 from pice.simulation import Simulation

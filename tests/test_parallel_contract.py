@@ -11,14 +11,12 @@ decision is identical.
 
 from __future__ import annotations
 
-import os
 import pathlib
 import subprocess
 import sys
 
 import h5py
 import numpy as np
-import pytest
 from launcher import clean_env as _clean_env
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]

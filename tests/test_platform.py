@@ -3,7 +3,6 @@
 import math
 
 import numpy as np
-import pytest
 
 from pice.kernels.rigid_body import rotation_matrix
 from pice.physics.body import RigidBody

@@ -11,6 +11,8 @@ Layout::
     /counters/       per writing rank: broken, contacts, contact_energy, wall_energy
     /events/         the broken-bond log so far: step, time, gid_a, gid_b, mode, rank (who logged it)
     /walls/total     (n_walls, 6) the reduced ice loads of the last step (when the job has walls)
+    /platform/       rank 0's bodies (body<k>/x, v, q, L, force, torque), mooring lines
+                     (group<k>/...), the ice loads of the last step and the bodies' clock
 
 Rank 0 writes ``path + ".tmp"``, flushes and fsyncs it, then renames it over ``path``: a run killed
 at any moment leaves either the previous checkpoint or the new one, never a broken file.
@@ -31,7 +33,7 @@ from ..errors import PiceError
 from ..state import PER_PARTICLE
 
 FORMAT = "pice checkpoint"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: hull contact history and /platform (1 reads as 'no bodies')
 COUNTERS = ("broken", "contacts", "contact_energy", "wall_energy")
 EVENT_FIELDS = ("step", "time", "gid_a", "gid_b", "mode", "rank")
 
@@ -158,12 +160,35 @@ def _write_file(sim, tmp: pathlib.Path, gid, order, parts, counters, events) -> 
             eg[name] = np.array([e[k] for e in events], dtype=dtype)
         if sim.wall_total is not None:
             f["walls/total"] = np.asarray(sim.wall_total, dtype=np.float64)
+        if sim.platform is not None:  # rank 0's bodies and lines
+            for name, value in sim.platform.state().items():
+                f[f"platform/{name}"] = np.asarray(value)
         f.flush()
     fd = os.open(tmp, os.O_RDONLY)
     try:
         os.fsync(fd)
     finally:
         os.close(fd)
+
+
+OPTIONAL = ("hull_hist",)  # absent from format 1 (no bodies then)
+
+
+def _particles(g: h5py.Group) -> dict:
+    out = {n: g[n][()] for n in PER_PARTICLE if n in g}
+    if "hull_hist" not in out:
+        out["hull_hist"] = np.zeros((len(out["gid"]), 1, 3))
+    return out
+
+
+def _platform_state(f: h5py.File) -> dict | None:
+    """The /platform group as {"body0/x": array, ...}, None when the run had no bodies."""
+    if "platform" not in f:
+        return None
+    out = {}
+    f["platform"].visititems(lambda name, obj: out.__setitem__(name, obj[()]) if isinstance(obj, h5py.Dataset)
+                             else None)
+    return out
 
 
 def read_checkpoint(path) -> dict:
@@ -184,16 +209,17 @@ def read_checkpoint(path) -> dict:
             if int(attrs.get("format_version", 0)) > FORMAT_VERSION:
                 raise CheckpointError(f"{path}: checkpoint format {attrs['format_version']} is newer than this "
                                       f"pice ({__version__}) reads ({FORMAT_VERSION}); upgrade pice")
-            missing = [n for n in PER_PARTICLE if n not in f["particles"]]
+            missing = [n for n in PER_PARTICLE if n not in f["particles"] and n not in OPTIONAL]
             if missing:
                 raise CheckpointError(f"{path}: checkpoint lacks particle arrays {', '.join(missing)}")
             return dict(
                 path=str(path), attrs=attrs,
-                particles={n: f["particles"][n][()] for n in PER_PARTICLE},
+                particles=_particles(f["particles"]),
                 x_cuts=f["decomposition/x_cuts"][()], y_cuts=f["decomposition/y_cuts"][()],
                 counters={n: f["counters"][n][()] for n in COUNTERS},
                 events={n: f["events"][n][()] for n in EVENT_FIELDS},
-                wall_total=f["walls/total"][()] if "walls/total" in f else None)
+                wall_total=f["walls/total"][()] if "walls/total" in f else None,
+                platform=_platform_state(f))
     except CheckpointError:
         raise
     except (OSError, KeyError) as exc:

@@ -6,6 +6,9 @@ Layout::
     /series/<name>    one row per recorded step (resizable, flushed as written)
     /snapshots/NNNNN  attrs time, step; datasets gid, x, v, w, radius, kind, bonds (m,2 gids)
                       [+ point_index, bond_index when the gids are not 0..n-1: point_index_arrays]
+                      [+ body_pose (n_bodies,13: x, q, v, omega), mooring_x (k,3), mooring_line (k,)
+                       when the job has [[bodies]] / [[moorings]]; snapshot 0 also holds each hull
+                       in its body frame: hull<k>_vertices, hull<k>_triangles]
     /events/broken_bonds  (k,5) float64 rows: step, time, gid_a, gid_b, mode (1 tension/bending, 2 shear)
 
 Rows are flushed as they are written, so a run that stops keeps everything recorded until then.
@@ -298,19 +301,23 @@ class RunFile:
 
         self._write("broken-bond events", write, need=(count + 1024) * 5 * 8)
 
-    def write_snapshot_arrays(self, index: int, *, time: float, step: int, arrays: dict) -> None:
+    def write_snapshot_arrays(self, index: int, *, time: float, step: int, arrays: dict,
+                              extras: dict | None = None) -> None:
         """Particles sorted by gid (gid, x, v, w, radius, kind) and intact bonds as sorted gid pairs.
 
         Serial: the whole run's arrays. mpio mode (collective): this rank's owned particles and the
-        bonds whose lower-gid end it owns; each lands at its place in the gid-sorted datasets."""
+        bonds whose lower-gid end it owns; each lands at its place in the gid-sorted datasets.
+        ``extras``: small arrays held by rank 0 (body poses, mooring nodes), written as they are."""
         if self.comm:
-            self._write_snapshot_mpio(index, time=time, step=step, arrays=arrays)
+            self._write_snapshot_mpio(index, time=time, step=step, arrays=arrays, extras=extras)
             return
-        need = 2 * _nbytes(*arrays.values())  # x2: the index arrays when the gids are not 0..n-1
-        self._write(f"snapshot {index}", lambda: self._write_snapshot_serial(index, time, step, arrays), need=need)
+        need = 2 * _nbytes(*arrays.values(), *(extras or {}).values())  # x2: the index arrays
+        self._write(f"snapshot {index}", lambda: self._write_snapshot_serial(index, time, step, arrays, extras),
+                    need=need)
         self._write(f"snapshot {index}", self.h5.flush)
 
-    def _write_snapshot_mpio(self, index: int, *, time: float, step: int, arrays: dict) -> None:
+    def _write_snapshot_mpio(self, index: int, *, time: float, step: int, arrays: dict,
+                             extras: dict | None = None) -> None:
         from .mpio import RUNS_DIRECT, count_runs, placement, to_blocks, write_rows
 
         comm = self.comm
@@ -330,8 +337,8 @@ class RunFile:
                 b = np.concatenate(parts)
                 extra = point_index_arrays(gids, b[np.lexsort((b[:, 1], b[:, 0]))] if len(b) else b)
         spec = {k: (a.dtype.str, a.shape[1:]) for k, a in fields.items()}
-        time, step, spec, extra_spec = comm.bcast(
-            (time, step, spec, {k: (a.dtype.str, a.shape) for k, a in (extra or {}).items()}))
+        time, step, spec, extra_spec, extras = comm.bcast(
+            (time, step, spec, {k: (a.dtype.str, a.shape) for k, a in (extra or {}).items()}, extras))
         fields = {k: np.ascontiguousarray(a, dtype=np.dtype(spec[k][0])) for k, a in fields.items()}
         direct = comm.max(max(count_runs(rows), count_runs(brows))) <= RUNS_DIRECT
         if not direct:  # many runs: first give every rank one contiguous block of rows
@@ -354,13 +361,14 @@ class RunFile:
                     mine = self.rank == 0
                     write_rows(ds, np.arange(shape[0] if mine else 0),
                                extra[name] if mine else np.zeros((0, *shape[1:]), dtype=np.dtype(dt)))
+            _write_extras(g, extras, self.rank == 0)
 
         need = 2 * _nbytes(*fields.values())
         need = int(self.comm.sum(float(need)))
         self._write(f"snapshot {index}", write, need=need)
         self._write(f"snapshot {index}", self.h5.flush)
 
-    def _write_snapshot_serial(self, index: int, time: float, step: int, arrays: dict) -> None:
+    def _write_snapshot_serial(self, index: int, time: float, step: int, arrays: dict, extras=None) -> None:
         order = np.argsort(arrays["gid"], kind="stable")
         g = self.snapshots.create_group(f"{index:05d}")
         g.attrs["time"] = time
@@ -372,6 +380,7 @@ class RunFile:
         g["bonds"] = bonds
         for name, data in point_index_arrays(arrays["gid"][order], bonds).items():
             g[name] = data
+        _write_extras(g, extras, True)
 
     @classmethod
     def open_for_restart(cls, path: str | os.PathLike, *, step: int, job=None, ranks: int = 1,
@@ -456,4 +465,13 @@ class RunFile:
 
 
 _PARTICLE_FIELDS = ("gid", "x", "v", "w", "radius", "kind")
+
+
+def _write_extras(g: h5py.Group, extras: dict | None, mine: bool) -> None:
+    """Rank 0's small arrays into snapshot group ``g`` (in mpio mode every rank creates them)."""
+    for name, value in (extras or {}).items():
+        value = np.asarray(value)
+        ds = g.create_dataset(name, shape=value.shape, dtype=value.dtype)
+        if mine and value.size:
+            ds[...] = value
 _ABANDONED: list = []   # files dropped by RunFile.abandon (see there)

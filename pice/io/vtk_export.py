@@ -7,11 +7,13 @@
                     bonds of snapshot 0 that are broken), and the intact bonds as line cells
     walls.vtu       the job's [[walls]] as triangles (planes as a square patch around their point
                     sized to the ice extent), cell data ``wall`` = index of the [[walls]] entry
+    bodies_NNNNN.vtu  every hull at its pose (triangles), cell data ``body``
+    moorings_NNNNN.vtu  the mooring lines as polylines, cell data ``line``
     x.pvd           the collection: every block of every snapshot with its time
 
 Blocks are plain functions in two tables, ``SNAPSHOT_BLOCKS`` (one file per snapshot) and
-``STATIC_BLOCKS`` (one file per run): a new kind of output (posed hull meshes, mooring polylines)
-is one more entry with a builder returning a ``meshio.Mesh`` or None when the run has none.
+``STATIC_BLOCKS`` (one file per run): a new kind of output is one more entry with a builder
+returning a ``meshio.Mesh`` or None when the run has none.
 """
 
 from __future__ import annotations
@@ -231,8 +233,44 @@ def walls_block(run: Run):
                        cell_data={"wall": [owner.astype(np.int32)]})
 
 
+def bodies_block(run: Run, key: str):
+    """Every hull at its pose of this snapshot (triangles), cell data ``body`` = its [[bodies]] index."""
+    import meshio
+
+    from ..kernels.hull import transform
+    from ..kernels.rigid_body import rotation_matrix
+
+    g, first = run.snapshot(key), run.snapshot(0)
+    if "body_pose" not in g:
+        return None
+    pts, tris, body, off = [], [], [], 0
+    for k, pose in enumerate(g["body_pose"][()]):
+        if f"hull{k}_vertices" not in first:
+            return None
+        v = transform(first[f"hull{k}_vertices"][()], rotation_matrix(pose[3:7]), pose[:3])
+        t = first[f"hull{k}_triangles"][()]
+        pts.append(v)
+        tris.append(t + off)
+        body.append(np.full(len(t), k, np.int32))
+        off += len(v)
+    return meshio.Mesh(np.vstack(pts), [("triangle", np.vstack(tris))], cell_data={"body": [np.concatenate(body)]})
+
+
+def moorings_block(run: Run, key: str):
+    """The mooring lines as polylines (one line cell per element), cell data ``line`` = line index."""
+    import meshio
+
+    g = run.snapshot(key)
+    if "mooring_x" not in g:
+        return None
+    x, line = g["mooring_x"][()], g["mooring_line"][()]
+    seg = np.nonzero(line[1:] == line[:-1])[0]
+    cells = np.column_stack([seg, seg + 1]).astype(np.int64)
+    return meshio.Mesh(x, [("line", cells)], cell_data={"line": [line[seg].astype(np.int32)]})
+
+
 # name -> builder(run, snapshot key); written as <name>_NNNNN.vtu for every snapshot
-SNAPSHOT_BLOCKS = {"ice": ice_block}
+SNAPSHOT_BLOCKS = {"ice": ice_block, "bodies": bodies_block, "moorings": moorings_block}
 # name -> builder(run); written once as <name>.vtu and listed at every time of the .pvd
 STATIC_BLOCKS = {"walls": walls_block}
 

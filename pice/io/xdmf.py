@@ -23,7 +23,6 @@ import pathlib
 import xml.etree.ElementTree as ET
 
 import h5py
-import numpy as np
 
 from .run_file import OutputError
 

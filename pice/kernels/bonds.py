@@ -14,7 +14,6 @@ params (float64 array, see physics.bond.BondParams.as_array):
 
 import math
 
-import numpy as np
 from numba import njit
 
 from . import JIT

@@ -14,12 +14,23 @@ Time stepping is velocity Verlet: `kick` (half step of momentum and angular mome
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..kernels.hull import submerged_volume, transform
 from ..kernels.rigid_body import angular_velocity, free_rotation, rotation_matrix
+
+
+def euler_angles(q) -> np.ndarray:
+    """(roll, pitch, yaw) [rad] of a unit quaternion (w, x, y, z): the z-y'-x'' (yaw, then pitch, then
+    roll) angles of ship motions."""
+    w, x, y, z = (float(c) for c in q)
+    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+    pitch = math.asin(max(-1.0, min(1.0, 2.0 * (w * y - z * x))))
+    yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return np.array([roll, pitch, yaw])
 
 
 @dataclass

@@ -115,6 +115,27 @@ class MooringLines:
     def anchor_tensions(self) -> np.ndarray:
         return np.linalg.norm(self.reactions(self.anchors), axis=1)
 
+    def polylines(self) -> tuple[np.ndarray, np.ndarray]:
+        """(n_nodes, 3) node positions [m] (each line's nodes contiguous, anchor first) and the line
+        index of each node."""
+        ids = np.zeros(len(self.x), np.int64)
+        for k, (a, f) in enumerate(zip(self.anchors, self.fairleads)):
+            ids[a:f + 1] = k
+        return self.x.copy(), ids
+
+    # -- checkpoint ----------------------------------------------------------------------------
+    _STATE = ("x", "v", "force", "tension", "added_mass", "tangent")
+
+    def state(self) -> dict[str, np.ndarray]:
+        out = {k: getattr(self, k) for k in self._STATE}
+        out["time"] = np.array(self.time)
+        return out
+
+    def set_state(self, s: dict) -> None:
+        for k in self._STATE:
+            getattr(self, k)[:] = s[k]
+        self.time = float(s["time"])
+
     def line_nodes(self, line: int) -> np.ndarray:
         """Node indices of one line, anchor first."""
         start, end = self.anchors[line], self.fairleads[line]

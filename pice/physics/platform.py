@@ -16,7 +16,6 @@ import numpy as np
 
 from ..kernels.rigid_body import rotation_matrix
 from .body import RigidBody
-from .mooring import MooringLines
 
 
 @dataclass
@@ -28,27 +27,47 @@ class Attachment:
     point: np.ndarray
 
 
+@dataclass
+class MooringGroup:
+    """Lines of one [[moorings]] entry (DEM MooringLines or QuasiStaticLines) and where they attach."""
+
+    lines: object
+    attachments: list[Attachment]
+
+
 class Platform:
     """Bodies, mooring lines and the water they sit in (rank 0 only)."""
 
-    def __init__(self, bodies: list[RigidBody], moorings: MooringLines | None = None,
-                 attachments: list[Attachment] | None = None, *, rho_w: float, g: float, level: float,
-                 current=(0.0, 0.0)):
+    def __init__(self, bodies: list[RigidBody], moorings=None, attachments: list[Attachment] | None = None, *,
+                 rho_w: float, g: float, level: float, current=(0.0, 0.0), groups: list[MooringGroup] | None = None):
         self.bodies = bodies
-        self.moorings = moorings
-        self.attachments = attachments or []
+        self.groups = list(groups or [])
+        if moorings is not None:
+            self.groups.insert(0, MooringGroup(moorings, list(attachments or [])))
         self.rho_w, self.g, self.level = rho_w, g, level
         self.current = np.asarray(current, float)
-        self.line_dt = 0.5 * moorings.stable_step() if moorings is not None else math.inf
+        steps = [0.5 * grp.lines.stable_step() for grp in self.groups]
+        self.line_dt = min(steps) if steps else math.inf
         self.time = 0.0
         self.ice = np.zeros((len(bodies), 6))
+        self.mooring_force = np.zeros((len(bodies), 3))  # pull of all lines on each body [N]
+
+    @property
+    def moorings(self):
+        """The first group's lines (None without moorings)."""
+        return self.groups[0].lines if self.groups else None
+
+    @property
+    def attachments(self) -> list[Attachment]:
+        return self.groups[0].attachments if self.groups else []
 
     # -- geometry ------------------------------------------------------------------------------
-    def fairlead_positions(self) -> tuple[np.ndarray, np.ndarray]:
-        """(n_lines, 3) fairlead positions [m] and velocities [m/s] from the bodies' poses."""
-        n = len(self.attachments)
+    def fairlead_positions(self, group: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """(n_lines, 3) fairlead positions [m] and velocities [m/s] of one group from the bodies' poses."""
+        atts = self.groups[group].attachments if self.groups else []
+        n = len(atts)
         x, v = np.zeros((n, 3)), np.zeros((n, 3))
-        for a in self.attachments:
+        for a in atts:
             b = self.bodies[a.body]
             arm = rotation_matrix(b.q) @ a.point
             x[a.line] = b.x + arm
@@ -69,10 +88,10 @@ class Platform:
         for b in self.bodies:
             b.drift(dt)
         self.time += dt
-        if self.moorings is not None:
-            x, v = self.fairlead_positions()
+        for k, grp in enumerate(self.groups):
+            x, v = self.fairlead_positions(k)
             nsub = max(1, int(math.ceil(dt / self.line_dt - 1e-12)))
-            self.moorings.advance(dt / nsub, nsub, x, v)
+            grp.lines.advance(dt / nsub, nsub, x, v)
 
     def loads(self, ice: np.ndarray | None = None) -> None:
         """Total force and moment on every body: ice (n_bodies, 6, reduced from all ranks), water,
@@ -83,16 +102,56 @@ class Platform:
             f, m = b.hydro_loads(rho_w=self.rho_w, g=self.g, level=self.level, current=self.current)
             b.force = f + self.ice[k, :3]
             b.torque = m + self.ice[k, 3:]
-        if self.moorings is not None:
-            pull = self.moorings.reactions(self.moorings.fairleads)
-            for a in self.attachments:
+        self.mooring_force = np.zeros((len(self.bodies), 3))
+        for grp in self.groups:
+            pull = grp.lines.reactions(grp.lines.fairleads)
+            for a in grp.attachments:
                 b = self.bodies[a.body]
                 arm = rotation_matrix(b.q) @ a.point
                 b.force = b.force + pull[a.line]
                 b.torque = b.torque + np.cross(arm, pull[a.line])
+                self.mooring_force[a.body] += pull[a.line]
 
     def fairlead_tensions(self) -> np.ndarray:
-        return self.moorings.fairlead_tensions() if self.moorings is not None else np.zeros(0)
+        """(n_lines,) tension [N] at every fairlead, groups in order."""
+        return np.concatenate([g.lines.fairlead_tensions() for g in self.groups]) if self.groups else np.zeros(0)
 
     def anchor_tensions(self) -> np.ndarray:
-        return self.moorings.anchor_tensions() if self.moorings is not None else np.zeros(0)
+        return np.concatenate([g.lines.anchor_tensions() for g in self.groups]) if self.groups else np.zeros(0)
+
+    @property
+    def n_lines(self) -> int:
+        return sum(len(g.attachments) for g in self.groups)
+
+    def polylines(self) -> tuple[np.ndarray, np.ndarray]:
+        """(k, 3) points [m] along every line (anchor first) and the global line index of each point."""
+        pts, ids, base = [np.zeros((0, 3))], [np.zeros(0, np.int64)], 0
+        for g in self.groups:
+            x, i = g.lines.polylines()
+            pts.append(x)
+            ids.append(i + base)
+            base += len(g.attachments)
+        return np.vstack(pts), np.concatenate(ids)
+
+    # -- checkpoint ----------------------------------------------------------------------------
+    _BODY_STATE = ("x", "v", "q", "L", "force", "torque")
+
+    def state(self) -> dict[str, np.ndarray]:
+        """Everything that evolves, as flat arrays (physics.platform is rebuilt from the job first)."""
+        out = {"time": np.array(self.time), "ice": self.ice.copy()}
+        for k, b in enumerate(self.bodies):
+            for name in self._BODY_STATE:
+                out[f"body{k}/{name}"] = np.asarray(getattr(b, name), float).copy()
+        for k, g in enumerate(self.groups):
+            for name, value in g.lines.state().items():
+                out[f"group{k}/{name}"] = np.asarray(value).copy()
+        return out
+
+    def set_state(self, s: dict) -> None:
+        self.time = float(s["time"])
+        self.ice = np.asarray(s["ice"], float).copy()
+        for k, b in enumerate(self.bodies):
+            for name in self._BODY_STATE:
+                setattr(b, name, np.asarray(s[f"body{k}/{name}"], float).copy())
+        for k, g in enumerate(self.groups):
+            g.lines.set_state({name[len(f"group{k}/"):]: v for name, v in s.items() if name.startswith(f"group{k}/")})

@@ -1,0 +1,32 @@
+"""Triangle meshes read with meshio (STL, OBJ, VTU, PLY, ...)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import pathlib
+import warnings
+
+import numpy as np
+
+
+def read_triangle_mesh(path: str | pathlib.Path) -> tuple[np.ndarray, np.ndarray]:
+    """(vertices (nv, 3) [m], triangles (nt, 3) int64) of a meshio-readable file.
+
+    Raises ValueError with a one-line reason when the file cannot be read or holds no triangles.
+    """
+    import meshio
+
+    chatter = io.StringIO()  # meshio prints (and for some formats calls sys.exit) on a bad file
+    try:
+        with warnings.catch_warnings(), contextlib.redirect_stdout(chatter), contextlib.redirect_stderr(chatter):
+            warnings.simplefilter("ignore")
+            mesh = meshio.read(path)
+    except (Exception, SystemExit) as exc:  # meshio raises many types for unreadable files
+        text = chatter.getvalue() if isinstance(exc, SystemExit) else str(exc)
+        raise ValueError("; ".join(" ".join(line.split()) for line in text.splitlines() if line.strip())
+                         or type(exc).__name__) from None
+    tris = [block.data for block in mesh.cells if block.type == "triangle"]
+    if not tris:
+        raise ValueError("no triangles in it")
+    return np.asarray(mesh.points[:, :3], float), np.vstack(tris).astype(np.int64)

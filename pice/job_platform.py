@@ -1,0 +1,148 @@
+"""[[bodies]] and [[moorings]]: the floating structures of a job and their mooring lines.
+
+A body is a 6-degree-of-freedom rigid hull (physics/body.py) owned by rank 0; its hull is built
+from parameters or read from a mesh file. A [[moorings]] entry is a spread of lines attached to one
+body, either DEM lines (physics/mooring.py) or the quasi-static elastic catenary
+(physics/catenary.py), each anchor placed by the layout solve for the given pretension.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal, Optional, Union
+
+from pydantic import Field, StrictBool, model_validator
+
+from .job_types import Vec2, Vec3, _count, _q, _Real, _Section, _vec
+
+Vec6 = tuple[_Real, _Real, _Real, _Real, _Real, _Real]
+Row7 = tuple[_Real, _Real, _Real, _Real, _Real, _Real, _Real]
+
+
+class HullSpec(_Section):
+    """[bodies.hull]: the hull surface in the body frame (origin at the centre of gravity)."""
+
+    type: Literal["semi_submersible", "box", "mesh"]
+    size: Optional[_vec(Vec3, "m")] = None       # box: length, width, height
+    centre: _vec(Vec3, "m") = (0.0, 0.0, 0.0)      # box: centre in the body frame
+    file: Optional[str] = None                     # mesh: meshio-readable closed triangle mesh
+
+    @model_validator(mode="after")
+    def _geometry(self):
+        if self.type == "box" and self.size is None:
+            raise ValueError("size: missing: a box hull needs size = [length, width, height] (m)")
+        if self.type == "box" and min(self.size) <= 0.0:
+            raise ValueError("size: must be three lengths > 0 m")
+        if self.type == "mesh" and self.file is None:
+            raise ValueError("file: missing: a mesh hull needs file = \"path/to/hull.stl\" (relative to the "
+                             "job file's folder; body frame, origin at the centre of gravity)")
+        return self
+
+
+class BodySpec(_Section):
+    """[[bodies]]: a rigid floating body (6 DOF, attitude as a unit quaternion)."""
+
+    name: str
+    hull: HullSpec
+    mass: Union[Literal["balance"], _q("kg")]  # "balance": the mass that floats at `position`
+    inertia: _vec(tuple[_q("kg m^2"), _q("kg m^2"), _q("kg m^2")], "kg m^2")  # roll, pitch, yaw about the CG
+    position: _vec(Vec3, "m")                      # centre of gravity at t = 0
+    heading: _q("deg", gt=None) = 0.0              # yaw at t = 0
+    added_mass: _vec(Vec6, "kg, kg m^2") = (0.0,) * 6     # diagonal, body frame
+    damping: _vec(Vec6, "N s^2/m^2, N m s^2") = (0.0,) * 6  # quadratic B of F = -B |u| u, body frame
+    current_drag: _vec(Vec2, "N s^2/m^2") = (0.0, 0.0)   # 1/2 rho C_d A along x and y
+    motion: Literal["free", "prescribed"] = "free"
+    velocity: tuple[Row7, ...] = ()                # prescribed: rows (t, vx, vy, vz, wx, wy, wz)
+    friction: _q("", gt=None, ge=0.0) = 0.15       # ice-hull Coulomb friction
+    normal_stiffness: Optional[_q("N/m")] = None   # ice-hull contact spring (default: contact's)
+
+    @model_validator(mode="after")
+    def _motion(self):
+        if self.motion == "prescribed" and not self.velocity:
+            raise ValueError("velocity: missing: prescribed motion needs velocity = [[t, vx, vy, vz, wx, wy, wz], "
+                             "...] (s, m/s, rad/s)")
+        if self.motion == "free" and self.velocity:
+            raise ValueError("velocity: given for a free body: set motion = \"prescribed\" or drop velocity")
+        times = [row[0] for row in self.velocity]
+        if any(b <= a for a, b in zip(times, times[1:])):
+            raise ValueError("velocity: the times (first column, s) must increase from row to row")
+        return self
+
+
+class SegmentSpec(_Section):
+    """[[moorings.segments]]: one homogeneous part of every line of the entry, anchor first."""
+
+    length: _q("m")
+    ea: _q("N")
+    diameter: _q("m")
+    wet_weight: _q("N/m")
+    dry_mass: Optional[_q("kg/m")] = None      # default: steel, from the wet weight
+    drag_normal: _q("", gt=None, ge=0.0) = 1.2
+    drag_tangential: _q("", gt=None, ge=0.0) = 0.008
+    added_mass: _q("", gt=None, ge=0.0) = 1.0
+
+
+class MooringSpec(_Section):
+    """[[moorings]]: a spread of lines from fairleads on one body to anchors placed by the layout solve."""
+
+    body: str
+    model: Literal["dem", "quasi_static"] = "dem"
+    fairleads: tuple[_vec(Vec3, "m"), ...] = Field(min_length=1)  # space frame at t = 0
+    headings: tuple[_Real, ...] = Field(min_length=1)             # outward heading of each fairlead [deg]
+    lines_per_fairlead: _count(1) = 1
+    spread: _q("deg", gt=None, ge=0.0) = 5.0                      # between the lines of one fairlead
+    anchor_depth: _q("m")                                         # anchor below its fairlead
+    pretension: _q("N")                                           # fairlead tension at rest
+    segments: tuple[SegmentSpec, ...] = Field(min_length=1)
+    element_length: _q("m") = 10.0                                # DEM: longest element
+    bond_damping: _q("", gt=None, ge=0.0, le=1.0) = 0.3           # DEM: axial dashpot, fraction of critical
+    seabed_stiffness: _q("N/m^2") = 1.0e5                         # DEM: per metre of line
+    seabed_friction: _q("", gt=None, ge=0.0) = 0.5
+    relax: StrictBool = True                                            # DEM: settle the lines before t = 0
+
+    @model_validator(mode="after")
+    def _layout(self):
+        if len(self.headings) != len(self.fairleads):
+            raise ValueError(f"headings: must have one heading per fairlead ({len(self.fairleads)}), "
+                             f"not {len(self.headings)}")
+        total = sum(s.length for s in self.segments)
+        if total <= self.anchor_depth:
+            raise ValueError(f"anchor_depth: must be < the line's length {total:g} m (the line cannot reach)")
+        if self.model == "dem" and self.element_length > max(s.length for s in self.segments):
+            raise ValueError(f"element_length: must be <= the longest segment "
+                             f"({max(s.length for s in self.segments):g} m)")
+        return self
+
+    @property
+    def n_lines(self) -> int:
+        return len(self.fairleads) * self.lines_per_fairlead
+
+
+def check_platform(job, bad) -> None:
+    """Rules between [[bodies]], [[moorings]] and [water]; ``bad(loc, value, msg)`` records one."""
+    names = [b.name for b in job.bodies]
+    for k, b in enumerate(job.bodies):
+        if names.index(b.name) != k:
+            bad(("bodies", k, "name"), b.name, "must be unique among [[bodies]]")
+        if job.water is None:
+            bad(("bodies", k), b.name, "a floating body needs a [water] table")
+        if b.mass == "balance" and job.gravity == 0.0:
+            bad(("bodies", k, "mass"), b.mass, "\"balance\" needs gravity > 0; give the mass in kg")
+    for k, m in enumerate(job.moorings):
+        if m.body not in names:
+            bad(("moorings", k, "body"), m.body, f"must name one of the [[bodies]]: {', '.join(names) or '(none)'}")
+        if job.water is None or job.water.depth is None:
+            bad(("moorings", k), m.body, "mooring lines need water.depth [m] (the seabed) in [water]")
+        elif m.fairleads and any(f[2] - m.anchor_depth < job.water.level - job.water.depth - 1e-6
+                                 for f in m.fairleads):
+            bad(("moorings", k, "anchor_depth"), m.anchor_depth,
+                f"puts an anchor below the seabed at {job.water.level - job.water.depth:g} m (water.depth = "
+                f"{job.water.depth:g} m)")
+        if job.gravity == 0.0:
+            bad(("moorings", k), m.body, "mooring lines need gravity > 0 (their catenary)")
+
+
+def heading_quaternion(deg: float) -> tuple[float, float, float, float]:
+    """Unit quaternion (w, x, y, z) of a yaw of ``deg`` degrees about +z."""
+    a = math.radians(deg)
+    return (math.cos(a / 2), 0.0, 0.0, math.sin(a / 2))
