@@ -18,12 +18,24 @@ def launch_rank() -> int:
     return 0
 
 
+class _StderrHandler(logging.StreamHandler):
+    """Writes to whatever sys.stderr is at the time of each record (tests and tools swap it)."""
+
+    @property
+    def stream(self):
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, value):  # StreamHandler.__init__ assigns it; the property always follows sys.stderr
+        pass
+
+
 def configure(level: int | None = None) -> logging.Logger:
     """Set up the 'pice' logger once: '[rank R] message' on stderr."""
     rank = launch_rank()
     log = logging.getLogger("pice")
     if not log.handlers:
-        handler = logging.StreamHandler(sys.stderr)
+        handler = _StderrHandler()
         handler.setFormatter(logging.Formatter(f"pice [rank {rank}] %(levelname)s: %(message)s"))
         log.addHandler(handler)
         log.propagate = False

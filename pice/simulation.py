@@ -154,10 +154,16 @@ class Simulation:
         self.poses = np.zeros((0, 13))
         if not self.job.bodies:
             return
+        from .job_platform import heading_quaternion
         from .scenes.platform import build_platform, hulls_from_job
 
         self.hulls = hulls_from_job(self.job, default_kn=float(self.contact_params[0]),
                                     reach=float(self.p.radius.max()), base_dir=base_dir)
+        self.poses = np.zeros((len(self.hulls), 13))
+        for k, b in enumerate(self.job.bodies):  # the pose at t = 0, as the job gives it
+            self.poses[k, :3] = b.position
+            self.poses[k, 3:7] = heading_quaternion(b.heading)
+        self._refuse_initial_hull_overlap()
         error = None
         if self.comm.rank == 0:
             try:
@@ -174,10 +180,9 @@ class Simulation:
         poses = self.platform.poses() if self.platform is not None else np.zeros((len(self.hulls), 13))
         self.poses = self.comm.bcast_array(poses)
 
-    def _refuse_initial_wall_overlap(self) -> None:
-        """A wall or hull that cuts into the ice at t = 0 would fire elements off: refuse it with the fix."""
+    def _refuse_initial_hull_overlap(self) -> None:
+        """A hull that cuts into the ice at t = 0 would fire elements off: refuse it with the fix."""
         from .errors import JobError
-        from .kernels.hull_contact import hull_forces
 
         p = self.p
         for k, h in enumerate(self.hulls):
@@ -193,8 +198,14 @@ class Simulation:
                 raise JobError(f"{self.job.source}: bodies[{k}] ({h.name}): its hull overlaps {int(n_el)} ice "
                                "element(s) at t = 0; move the body (bodies.position) or the sheet (ice.origin) "
                                "so that they start apart")
+
+    def _refuse_initial_wall_overlap(self) -> None:
+        """A wall that cuts into the ice at t = 0 would fire elements off: refuse it with the fix."""
+        from .errors import JobError
+
         if not len(self.wall_kinds):
             return
+        p = self.p
         f, t, wf = np.zeros((p.n, 3)), np.zeros((p.n, 3)), np.zeros((len(self.wall_kinds), 3))
         params = self.wall_params.copy()
         params[:, 1:] = 0.0  # elastic normal force only

@@ -84,6 +84,26 @@ def case(id, toml, *expect, files=None, setup=False, lines=None):
 
 
 PLANE = '[[walls]]\ntype = "plane"\npoint = [0.0, 0.0, -5.0]\n'
+WATER = "[water]\ndepth = 50.0\n"
+BODY = """[[bodies]]
+name = "barge"
+hull = {type = "box", size = [10.0, 8.0, 4.0]}
+mass = "balance"
+inertia = [1.0e7, 2.0e7, 3.0e7]
+position = [12.0, 1.5, 0.0]
+"""
+MOORING = """[[moorings]]
+body = "barge"
+fairleads = [[17.0, 1.5, -2.0]]
+headings = [0.0]
+anchor_depth = 48.0
+pretension = 5.0e3
+[[moorings.segments]]
+length = 100.0
+ea = 1.0e8
+diameter = 0.05
+wet_weight = 100.0
+"""
 NUMBER_S = r"\d+(\.\d+)?(e-?\d+)? s"  # a time in seconds as printed
 
 CASES = [
@@ -192,6 +212,29 @@ CASES = [
          "loads[0].region = {xmin = 100.0}: selects no element", "x 0.5 .. 3.5", setup=True),
     case("fix_velocity_word", BASE + '[[fixes]]\nvelocity = [0.0, "fixed", "free"]\n[fixes.region]\nxmax = 1.0\n',
          "fixes[0].velocity[1] = 'fixed': must be a number (m/s) or 'free'"),
+    # --- bodies and moorings (pice/job_platform.py, pice/scenes/platform.py)
+    case("body_without_water", BASE + BODY, "bodies[0] = 'barge': a floating body needs a [water] table"),
+    case("box_hull_without_size", BASE + WATER + BODY.replace('hull = {type = "box", size = [10.0, 8.0, 4.0]}',
+                                                             'hull = {type = "box"}'),
+         "bodies[0].hull.size = (absent): missing: a box hull needs size = [length, width, height] (m)"),
+    case("mesh_hull_file_not_found", BASE + WATER + BODY.replace('{type = "box", size = [10.0, 8.0, 4.0]}',
+                                                                '{type = "mesh", file = "ship.stl"}'),
+         "bodies[0].hull.file = 'ship.stl': file not found"),
+    case("prescribed_without_velocity", BASE + WATER + BODY + 'motion = "prescribed"\n',
+         "bodies[0].velocity = (absent): missing: prescribed motion needs velocity = [[t, vx, vy, vz, wx, wy, wz]"),
+    case("mooring_names_unknown_body", BASE + WATER + BODY + MOORING.replace('body = "barge"', 'body = "ship"'),
+         "moorings[0].body = 'ship': must name one of the [[bodies]]: barge"),
+    case("mooring_headings_count", BASE + WATER + BODY + MOORING.replace("headings = [0.0]", "headings = [0.0, 90.0]"),
+         "moorings[0].headings = [0.0, 90.0]: must have one heading per fairlead (1), not 2"),
+    case("mooring_without_depth", BASE + "[water]\n" + BODY + MOORING,
+         "moorings[0] = 'barge': mooring lines need water.depth [m] (the seabed) in [water]"),
+    case("anchor_below_seabed", BASE + WATER + BODY + MOORING.replace("anchor_depth = 48.0", "anchor_depth = 60.0"),
+         "moorings[0].anchor_depth = 60.0: puts an anchor below the seabed at -50 m (water.depth = 50 m)"),
+    case("hull_overlaps_ice", BASE + WATER + BODY.replace("position = [12.0, 1.5, 0.0]", "position = [6.0, 1.5, 0.0]"),
+         "bodies[0] (barge): its hull overlaps", "ice element(s) at t = 0; move the body", setup=True),
+    case("pretension_below_slack", BASE + WATER + BODY + MOORING.replace("pretension = 5.0e3", "pretension = 10.0"),
+         "moorings[0].pretension = 10: a fairlead tension of 10 N is below the slackest static state",
+         setup=True),
     # --- the file itself
     case("invalid_toml", sub("width = 3.0", "width = 3.0.0"),
          "not valid TOML: ", re.compile(r"line \d+")),

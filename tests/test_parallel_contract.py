@@ -74,3 +74,31 @@ def test_one_two_three_ranks_agree(tmp_path):
         assert broken == broken1
         # the reduced wall force (rank 0 reduction) agrees too, relative to its peak
         assert np.abs(wall - wall1).max() <= 1e-9 * np.abs(wall1).max()
+
+
+def test_platform_on_one_and_two_ranks_agrees(tmp_path):
+    """Issue 4 contract: a moored barge (DEM lines) hit by a breaking sheet carried by a current,
+    2,000 steps on 1 and 2 ranks: body trajectories within 1e-8 m, ice loads and fairlead tensions
+    within 1e-8 of their peaks (the reduced hull loads differ only in summation order)."""
+    from test_platform_run import job_text
+
+    job = tmp_path / "moored.toml"
+    text = job_text(duration=0.2, series_every=20, current=1.0, drag=1.0, mooring="dem")
+    job.write_text(text.replace("flexural_strength = 0.3e6", "flexural_strength = 0.15e6"))  # it breaks
+    series = {}
+    for ranks in (1, 2):
+        out = tmp_path / f"m{ranks}.h5"
+        _run(job, out, ranks)
+        with h5py.File(out) as f:
+            assert f.attrs["status"] == "finished" and int(f.attrs["ranks"]) == ranks
+            series[ranks] = {k: f["series"][k][()] for k in ("step", "body_position", "body_rotation",
+                                                            "ice_force_max", "fairlead_tension")}
+            broken = len(f["events/broken_bonds"])
+    one, two = series[1], series[2]
+    assert one["step"][-1] == 2000
+    assert one["ice_force_max"][:, 0, 0].max() > 1e5, "the ice must load the barge"
+    assert broken > 0, "the contract run must include fracture"
+    assert np.abs(one["body_position"] - two["body_position"]).max() < 1e-8
+    assert np.abs(one["body_rotation"] - two["body_rotation"]).max() < 1e-10
+    for key in ("ice_force_max", "fairlead_tension"):
+        assert np.abs(one[key] - two[key]).max() <= 1e-8 * np.abs(one[key]).max()

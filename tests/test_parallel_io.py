@@ -325,6 +325,33 @@ def test_same_data_mpio_and_gathered_run(tmp_out, monkeypatch):
 
 
 @pytest.mark.mpi
+@pytest.mark.timeout(600)
+def test_same_data_mpio_and_gathered_with_a_platform(tmp_out, monkeypatch):
+    """The moored barge of tests/test_platform_run.py (rank 0's body poses, line polylines and hull
+    meshes in the snapshots, platform series) written through mpio and gathered: bit for bit."""
+    comm = _need_mpio()
+    from test_platform_run import job_text
+
+    from pice.job import load_job
+    from pice.runner import run_job
+
+    path = tmp_out / f"moored{comm.rank}.toml"
+    path.write_text(job_text(duration=0.03, series_every=50, current=1.0, drag=1.0, mooring="dem"))
+    outs = {}
+    for mode in ("mpio", "gathered"):
+        monkeypatch.setenv(MODE_ENV, mode)
+        outs[mode] = tmp_out / f"moored_{mode}.h5"
+        run_job(load_job(path), output=outs[mode], comm=comm, progress=None)
+    comm.barrier()
+    if comm.rank == 0:
+        assert_same_data(outs["mpio"], outs["gathered"])
+        with h5py.File(outs["mpio"]) as f:
+            assert "body_pose" in f["snapshots/00002"] and "hull0_vertices" in f["snapshots/00000"]
+            assert f["series/fairlead_tension"].shape[1] == 4
+    comm.barrier()
+
+
+@pytest.mark.mpi
 @pytest.mark.timeout(120)
 def test_mpio_never_replaces_an_existing_file(tmp_out):
     comm = _need_mpio()
