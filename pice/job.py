@@ -52,10 +52,14 @@ class WaterSpec(_Section):
 
 
 class PushSpec(_Section):
-    """[ice.push]: the rear edge of the sheet driven at a constant speed along +x."""
+    """[ice.push]: the rear edge of the sheet driven at a constant speed along +x: rigidly (its
+    velocity prescribed), or through springs of ``stiffness`` per element to anchors moving at
+    ``speed`` (a spring boundary standing for the far-field ice)."""
 
     speed: _q("m/s", gt=None) = 0.05
     rows: _count(1) = 1
+    stiffness: Optional[_q("N/m")] = None
+    damping_ratio: _q("", gt=None, ge=0.0, le=1.0) = 1.0
 
 
 class IceSpec(_Section):
@@ -199,9 +203,10 @@ class Job(_Section):
             problems.append(_Located(loc, value, msg))
 
         # the HCP sheet needs at least one element across each dimension (scenes/level_ice.py)
-        if ice.thickness < ice.element_diameter * (1 - 1e-9):
+        if ice.thickness < ice.element_diameter * (1 - 1e-9) and ice.element_volume != "cell":
             bad(("ice", "thickness"), ice.thickness,
-                f"must be >= ice.element_diameter = {ice.element_diameter} m (one layer of elements)")
+                f"must be >= ice.element_diameter = {ice.element_diameter} m (one layer of elements), or set "
+                "ice.element_volume = \"cell\" (elements stand for plate cells of the thickness)")
         for key in ("length", "width"):
             if getattr(ice, key) < ice.element_diameter:
                 bad(("ice", key), getattr(ice, key), f"must be >= ice.element_diameter = {ice.element_diameter} m "

@@ -18,6 +18,7 @@ import numpy as np
 from .errors import InstabilityError
 from .kernels.bonds import bond_energy, bond_forces, sync_mate_history
 from .kernels.contacts import contact_forces
+from .kernels.boundary import spring_boundary
 from .kernels.hull_contact import hull_forces
 from .kernels.hydro import buoyancy_potential
 from .kernels.integrate import drift, kick, max_step_displacement
@@ -142,9 +143,12 @@ class Simulation:
             rows = job.ice.push.rows
             xmin = x0[:, 0].min()
             sel = x0[:, 0] < xmin + (rows - 1e-6) * self.sheet.spacing  # odd rows sit d/2 further in
-            p.fix_mask[sel, 0] = True
-            p.fix_velocity[sel, 0] = job.ice.push.speed
             p.v[sel, 0] = job.ice.push.speed
+            if job.ice.push.stiffness is not None:  # a spring boundary
+                p.anchor_k[sel] = job.ice.push.stiffness
+            else:
+                p.fix_mask[sel, 0] = True
+                p.fix_velocity[sel, 0] = job.ice.push.speed
 
     def _set_up_bodies(self, base_dir) -> None:
         """Hull geometry on every rank; rank 0 builds the bodies and lines; the poses reach every rank."""
@@ -362,7 +366,9 @@ class Simulation:
 
     def _time_step(self):
         p, b = self.p, self.bond
-        kw = max([0.0] + [float(k) for k in self.wall_params[:, 0]] + [float(h.params[0]) for h in self.hulls])
+        push = self.job.ice.push
+        kw = max([0.0] + [float(k) for k in self.wall_params[:, 0]] + [float(h.params[0]) for h in self.hulls] +
+                 [push.stiffness if push is not None and push.stiffness is not None else 0.0])
         i = int(np.argmin(p.mass))
         stable, why = stable_step(mass=float(p.mass[i]), inertia=float(p.inertia[i]), d=self.sheet.spacing,
                                   n_layers=self.sheet.n_layers, bond=(b.kn, b.ks, b.kt, b.kb),
@@ -397,6 +403,11 @@ class Simulation:
                                         p.force, p.torque, self.wall_force, self.wall_moment)
         hydro_forces(p.nlocal, p.x, p.v, p.radius, p.mass, p.cell_area, p.half_height, self.gravity,
                      self.water, p.heave_damping, p.force)
+        push = self.job.ice.push
+        if push is not None and push.stiffness is not None:
+            self.boundary_force = spring_boundary(p.nlocal, p.x, p.v, p.mass, p.anchor, p.anchor_k,
+                                                  push.damping_ratio, np.array([push.speed, 0.0, 0.0]),
+                                                  c.time, p.force)
         nw = len(self.job.walls)
         if nw or self.hulls:
             local = np.zeros((nw + len(self.hulls), 6))
@@ -531,6 +542,9 @@ class Simulation:
         if loads is not None:
             row["wall_force"] = loads[:, :3]
             row["wall_moment"] = loads[:, 3:]
+        push = self.job.ice.push
+        if push is not None and push.stiffness is not None:  # the far field's push on the sheet [N]
+            row["boundary_force"] = self.comm.sum(self.boundary_force)
         if self.platform is not None:
             row.update(self.platform_row())
         return row

@@ -30,6 +30,7 @@ KIND_ICE = 0
 PER_PARTICLE = ("gid", "x", "v", "w", "radius", "mass", "inertia", "kind", "volume", "cell_area",
                 "half_height", "bond_gid", "bond_mate", "bond_L0", "bond_hist", "ext_force", "fix_mask",
                 "fix_velocity", "contact_gid", "contact_stamp", "contact_hist", "wall_hist", "hull_hist", "heave_damping",
+                "anchor", "anchor_k",
                 "force", "torque")
 
 
@@ -64,6 +65,8 @@ class Particles:
     wall_hist: np.ndarray = field(default=None)     # (n,n_walls,3) tangential force [N]
     hull_hist: np.ndarray = field(default=None)     # (n,n_bodies,3) tangential force on each hull [N]
     heave_damping: np.ndarray = field(default=None)  # (n,) linear heave damping [N s/m]
+    anchor: np.ndarray = field(default=None)         # (n,3) spring-boundary anchor at t = 0 [m]
+    anchor_k: np.ndarray = field(default=None)       # (n,) spring-boundary stiffness [N/m] (0: free)
     nlocal: int = 0
 
     @property
@@ -87,6 +90,8 @@ class Particles:
         self.hull_hist = np.zeros((n, max(n_bodies, 1), 3))
         if self.heave_damping is None:
             self.heave_damping = np.zeros(n)
+        self.anchor = self.x.copy()
+        self.anchor_k = np.zeros(n)
 
     def rows(self, idx: np.ndarray) -> dict[str, np.ndarray]:
         """Copies of every per-particle array at the indices ``idx`` (what migrates with a particle)."""

@@ -171,13 +171,15 @@ def _write_file(sim, tmp: pathlib.Path, gid, order, parts, counters, events) -> 
         os.close(fd)
 
 
-OPTIONAL = ("hull_hist",)  # absent from format 1 (no bodies then)
+OPTIONAL = ("hull_hist", "anchor", "anchor_k")  # absent from format 1 (no bodies, no spring boundary then)
 
 
 def _particles(g: h5py.Group) -> dict:
     out = {n: g[n][()] for n in PER_PARTICLE if n in g}
-    if "hull_hist" not in out:
-        out["hull_hist"] = np.zeros((len(out["gid"]), 1, 3))
+    n = len(out["gid"])
+    out.setdefault("hull_hist", np.zeros((n, 1, 3)))
+    out.setdefault("anchor", out["x"].copy())
+    out.setdefault("anchor_k", np.zeros(n))
     return out
 
 

@@ -117,7 +117,8 @@ def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
     pairs = cKDTree(x).query_pairs(d * (1.0 + 1e-6), output_type="ndarray")
     add_bonds(p, pairs)
     geo = SheetGeometry(n_layers=n_layers, spacing=d, cell_area=cell_area, layer_height=layer_height,
-                        actual_thickness=d + (n_layers - 1) * d * LAYER_SPACING)
+                        actual_thickness=ice.thickness if ice.element_volume == "cell" and n_layers == 1
+                        else d + (n_layers - 1) * d * LAYER_SPACING)
     return p, geo
 
 

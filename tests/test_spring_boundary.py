@@ -1,0 +1,54 @@
+"""The spring boundary ([ice.push] with a stiffness): edge rows tied to anchors moving at the drive speed.
+
+Reference: statics of springs in parallel. A sheet held back by a constant load F and dragged by N
+springs whose anchors move at u reaches the drive speed u with the springs stretched so that they
+carry F: the boundary force equals F and every tied element lags its anchor by F / (N k).
+"""
+
+import numpy as np
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover
+    import tomli as tomllib
+
+from pice.job import parse_job
+from pice.simulation import Simulation
+
+JOB = """
+gravity = 0.0
+[run]
+duration = 1.0
+dt = 2.0e-4
+[ice]
+thickness = 1.0
+element_diameter = 1.0
+length = 8.0
+width = 4.0
+youngs_modulus = 1.0e9
+[ice.push]
+speed = 0.5
+rows = 1
+stiffness = 2.0e6
+damping_ratio = 1.0
+[bond]
+breakable = false
+damping_ratio = 0.1
+[[loads]]
+force = [-3.0e4, 0.0, 0.0]
+[loads.region]
+"""
+
+
+def test_spring_boundary_carries_the_load_at_the_drive_speed():
+    job = parse_job(tomllib.loads(JOB), source="spring.toml", text=JOB)
+    sim = Simulation(job)
+    tied = sim.p.anchor_k > 0
+    n_tied = int(tied.sum())
+    assert n_tied >= 2 and not sim.p.fix_mask.any()  # springs, not a prescribed velocity
+    sim.advance(int(round(1.5 / sim.dt)))  # ~20 time constants of the stiff, critically damped system
+    row = sim.series_row()
+    np.testing.assert_allclose(row["boundary_force"], 3.0e4, rtol=1e-3)  # statics, round-off + decay
+    np.testing.assert_allclose(sim.p.v[:, 0], 0.5, atol=1e-4)
+    lag = sim.p.anchor[tied, 0] + 0.5 * sim.c.time - sim.p.x[tied, 0]
+    np.testing.assert_allclose(lag.mean(), 3.0e4 / (n_tied * 2.0e6), rtol=1e-2)
