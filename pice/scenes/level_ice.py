@@ -77,7 +77,8 @@ def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
     ice = job.ice
     d = ice.element_diameter
     r = 0.5 * d
-    n_layers = layer_count(thickness=ice.thickness, element_diameter=d)
+    # a "cell" element stands for the whole thickness of the plate: one layer whatever the thickness
+    n_layers = 1 if ice.element_volume == "cell" else layer_count(thickness=ice.thickness, element_diameter=d)
     x = hcp_positions(length=ice.length, width=ice.width, d=d, n_layers=n_layers)
     x[:, 0] += ice.origin[0]
     x[:, 1] += ice.origin[1]
