@@ -1,0 +1,82 @@
+"""Numerical stability at the extremes of the reference scene's parameters (issue 6).
+
+A moored box barge hit by a small sheet (tests/test_platform_run.py), pushed to the corners: ice
+0.3 to 3 m thick, current 0.05 to 3 m/s, time steps from 0.1 to 0.95 of the stability limit,
+stiff and slack moorings. Each run must finish without the runaway check firing, with every
+element's and the body's speed bounded and no energy created: the ice's kinetic energy stays
+below that of the whole sheet moving at twice the fastest driving speed (the current, or the
+sheet's initial speed), a bound a blow-up exceeds by orders of magnitude. Past the limit, the job
+is refused with the limit in the message.
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from test_platform_run import job_text, make
+
+from pice.errors import JobError
+from pice.simulation import Simulation
+
+pytestmark = pytest.mark.slow
+
+STEPS = 1500
+
+
+def scene(*, thickness=1.0, current=1.0, safety=0.5, pretension=20.0e3, element_length=10.0):
+    text = job_text(duration=1.0, current=current, drag=1.0, mooring="dem")
+    edits = (("dt = 1.0e-4", f'dt = "auto"\ndt_safety = {safety}'),
+             ("thickness = 1.0", f"thickness = {thickness}\nelement_volume = \"cell\""),
+             ("velocity = [1.0, 0.0]", f"velocity = [{current}, 0.0]"),
+             ("pretension = 20.0e3", f"pretension = {pretension}"),
+             ("element_length = 10.0", f"element_length = {element_length}"))
+    for old, new in edits:
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    return make(text)
+
+
+def run_bounded(job) -> Simulation:
+    sim = Simulation(job)
+    n = sim.p.nlocal
+    drive = max(abs(job.water.current[0]), abs(job.ice.velocity[0]))
+    bound = 0.5 * float(sim.p.mass[:n].sum()) * (2.0 * drive) ** 2
+    for _ in range(STEPS // 100):
+        sim.advance(100)  # raises InstabilityError on a runaway element
+        v = sim.p.v[:n]
+        assert np.isfinite(v).all()
+        ke = 0.5 * float(np.sum(sim.p.mass[:n] * np.einsum("ij,ij->i", v, v)))
+        assert ke <= bound, f"ice kinetic energy {ke:.3g} J above {bound:.3g} J"
+        body = sim.platform.bodies[0]
+        assert np.isfinite(body.x).all() and np.linalg.norm(body.v) < 2.0 * drive + 0.5
+    return sim
+
+
+@pytest.mark.parametrize("thickness", [0.3, 3.0])
+def test_thin_and_thick_ice(thickness):
+    run_bounded(scene(thickness=thickness))
+
+
+@pytest.mark.parametrize("current", [0.05, 3.0])
+def test_slow_and_fast_current(current):
+    run_bounded(scene(current=current))
+
+
+@pytest.mark.parametrize("safety", [0.1, 0.95])
+def test_time_step_from_a_tenth_to_nearly_the_limit(safety):
+    sim = run_bounded(scene(safety=safety))
+    assert sim.dt == pytest.approx(safety * sim.limit.stable, rel=1e-12)
+
+
+@pytest.mark.parametrize("pretension,element_length", [(80.0e3, 5.0), (10.0e3, 20.0)], ids=["stiff", "slack"])
+def test_stiff_and_slack_moorings(pretension, element_length):
+    sim = run_bounded(scene(pretension=pretension, element_length=element_length))
+    assert (sim.platform.fairlead_tensions() > 0).all()
+
+
+def test_past_the_limit_is_refused_with_the_limit():
+    limit = Simulation(scene()).limit.stable
+    with pytest.raises(JobError, match=re.escape(f"{limit:.4g}")):
+        Simulation(scene(safety=1.0).model_copy(update={"run": scene().run.model_copy(update={"dt": 1.2 * limit})}))
