@@ -1,4 +1,4 @@
-"""Command line: ``pice run | check | export | plot``. Heavy modules are imported inside each subcommand."""
+"""Command line: ``pice run | check | export | plot | study``. Heavy modules are imported inside each subcommand."""
 
 from __future__ import annotations
 
@@ -123,6 +123,18 @@ def _cmd_plot(args) -> int:
     return 0
 
 
+def _cmd_study(args) -> int:
+    from .study import run_study
+    from .study_report import study_table
+
+    study = run_study(args.job, args.vary, out_dir=args.out, reference=args.reference, settle=args.settle)
+    if study is not None:  # rank 0
+        print("\n".join(study_table(study)))
+        print(f"pice: wrote {len(study['variants'])} run(s) and " + ", ".join(pathlib.Path(p).name for p in study["files"])
+              + f" in {study['out_dir']}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="pice", description="DEM of sea ice acting on moored floating structures")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -150,6 +162,19 @@ def build_parser() -> argparse.ArgumentParser:
                     help="colour of the rendered spheres (default velocity)")
     pl.add_argument("--no-render", action="store_true", help="figures only, no pyvista render")
     pl.set_defaults(func=_cmd_plot)
+    st = sub.add_parser("study", help="run variants of a job (--vary KEY=v1,v2,...) and compare their cost with "
+                                      "their peak loads, offsets and line tensions")
+    st.add_argument("job")
+    st.add_argument("--vary", action="append", required=True, metavar="KEY=V1,V2,...",
+                    help="a key of the job as the TOML file writes it (run.dt, ice.element_diameter, "
+                         "moorings[0].element_length) and its values; several --vary: every combination")
+    st.add_argument("--out", metavar="DIR", help="folder of the variants' jobs and runs and the report "
+                                                 "(default runs/<job>_study/)")
+    st.add_argument("--reference", type=int, metavar="K",
+                    help="compare with variant K (default: the finest, the most particle-steps)")
+    st.add_argument("--settle", type=float, default=0.0, metavar="SECONDS",
+                    help="offsets over t >= SECONDS only (default 0)")
+    st.set_defaults(func=_cmd_study)
     return ap
 
 

@@ -1,0 +1,270 @@
+"""`pice study`: variants of a job from --vary keys, their metrics from the run files, the report.
+
+* key paths and values: ``moorings[0].element_length`` is ("moorings", 0, "element_length"); values
+  read as TOML scalars, a bare word as the string it spells;
+* bad input (an unknown key, a bad value, a dt above the stability limit) is one line naming the key,
+  exit status 2, and nothing is run or written;
+* the metrics of a hand-made run file whose series are known (values worked out in the comments);
+* the TOML writer gives back what it was given (tomllib round trip);
+* one end-to-end study of two time steps on the 22-element slope job of tests/test_run_file.py.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import pathlib
+
+import h5py
+import numpy as np
+import pytest
+
+from pice.cli import main
+from pice.errors import JobError
+from pice.io.toml_text import toml_text
+from pice.job import load_job, parse_job
+from pice.study import key_path, make_variants, parse_vary, split_values, toml_value
+from pice.study_report import change_percent, compare, run_metrics
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover
+    import tomli as tomllib
+
+REPO = pathlib.Path(__file__).parents[1]
+
+# the slope job of tests/test_run_file.py, 0.05 s: 22 elements, touching the slope within 0.05 s
+WALL_JOB = """\
+[run]
+duration = 0.05
+series_every = 2
+snapshots = 1
+[water]
+density = 1035.0
+current = [1.0, 0.0]
+[ice]
+length = 6.0
+width = 4.0
+velocity = [1.0, 0.0]
+[bond]
+normal_stiffness = 1.72e7
+normal_strength = 1.5e6
+friction = 0.3
+[[walls]]
+name = "slope"
+type = "plane"
+point = [6.53, 0.0, 0.0]
+normal = [-0.7071068, 0.0, 0.7071068]
+"""
+
+# a moored barge (the job of tests/test_platform_run.py), only validated here, never run
+MOORED_JOB = WALL_JOB.replace('[[walls]]\nname = "slope"\ntype = "plane"\npoint = [6.53, 0.0, 0.0]\n'
+                              'normal = [-0.7071068, 0.0, 0.7071068]\n', "") + """\
+[[bodies]]
+name = "barge"
+hull = {type = "box", size = [20.0, 16.0, 6.0]}
+mass = "balance"
+inertia = [4.0e8, 6.0e8, 9.0e8]
+position = [22.05, 0.3, 0.0]
+[[moorings]]
+body = "barge"
+fairleads = [[32.05, 8.3, -3.0], [12.05, 8.3, -3.0], [12.05, -7.7, -3.0], [32.05, -7.7, -3.0]]
+headings = [45.0, 135.0, 225.0, 315.0]
+anchor_depth = 57.0
+pretension = 20.0e3
+[[moorings.segments]]
+length = 120.0
+ea = 5.0e8
+diameter = 0.05
+wet_weight = 150.0
+"""
+MOORED_JOB = MOORED_JOB.replace("current = [1.0, 0.0]\n", "current = [1.0, 0.0]\ndepth = 60.0\n")
+
+
+def write(tmp_path: pathlib.Path, text: str, name: str = "tiny.toml") -> pathlib.Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+# -- keys and values -------------------------------------------------------------------------------
+
+def test_key_paths_and_values_read_as_toml():
+    assert key_path("moorings[0].element_length") == ("moorings", 0, "element_length")
+    assert key_path("ice.element_diameter") == ("ice", "element_diameter")
+    assert key_path("walls[1].normal[2]") == ("walls", 1, "normal", 2)
+    assert split_values('1e-4, auto,[1.0, 0.0],"a,b"') == ["1e-4", "auto", "[1.0, 0.0]", '"a,b"']
+    assert toml_value("1e-4") == 1e-4 and isinstance(toml_value("5"), int) and toml_value("5") == 5
+    assert toml_value("true") is True
+    assert toml_value("auto") == "auto" and toml_value('"auto"') == "auto"
+    assert toml_value("[1.0, 0.0]") == [1.0, 0.0]
+    vary = parse_vary("moorings[0].element_length=5,10,20")
+    assert vary.key == "moorings[0].element_length" and vary.values == (5, 10, 20)
+
+
+@pytest.mark.parametrize("spec", ["run.dt", "=1,2", "run.dt=1e-4,,2e-4", "ice..thickness=1", "ice.[0]=1",
+                                  "run dt=1"])
+def test_malformed_vary_is_refused(spec):
+    with pytest.raises(JobError) as err:
+        parse_vary(spec)
+    assert len(err.value.lines) == 1 and err.value.lines[0].startswith("--vary ")
+
+
+def test_variants_are_the_cartesian_product_in_order(tmp_path):
+    job = write(tmp_path, MOORED_JOB)
+    out = tmp_path / "study"
+    variants = make_variants(job, ["moorings[0].element_length=5,10,20", "ice.velocity[0]=0.5,1.0",
+                                   "run.dt=auto,1e-4"], out_dir=out)
+    assert len(variants) == 12
+    assert not out.exists()  # validation writes nothing
+    for k, v in enumerate(variants):
+        length, speed, dt = (5, 10, 20)[k // 4], (0.5, 1.0)[k // 2 % 2], ("auto", 1e-4)[k % 2]
+        assert v.values == {"moorings[0].element_length": length, "ice.velocity[0]": speed, "run.dt": dt}
+        assert v.job.moorings[0].element_length == length
+        assert v.job.ice.velocity == (speed, 0.0) and v.job.run.dt == dt
+        assert v.toml == out / f"tiny_{k}.toml" and v.run == out / f"tiny_{k}.h5"
+        again = tomllib.loads(v.text)  # the variant file is the variant
+        assert again["moorings"][0]["element_length"] == length and again["run"]["output"] == str(v.run)
+        assert v.job.model_dump() == parse_job(again).model_dump()
+
+
+@pytest.mark.parametrize(("vary", "key", "why"), [
+    ("ice.thicknes=1.0,1.2", "ice.thicknes", "unknown key 'thicknes' in [ice]"),
+    ("run.dt=1e-4,-1", "run.dt", "run.dt = -1: must be 'auto' or > 0 s"),
+    ("run.dt=1e-4,soon", "run.dt", "run.dt = 'soon': must be 'auto' or a number"),
+    ("ice.push.speed=1.0", "ice.push.speed", "the job has no [ice.push] table"),
+    ("walls[1].friction=0.1", "walls[1].friction", "walls has 1 entry"),
+    ("run.dt=1e-4,0.01", "run.dt", "above the stability limit"),  # a set-up check: the scene is built
+])
+def test_bad_input_is_one_line_exit_2_and_nothing_runs(tmp_path, capsys, monkeypatch, vary, key, why):
+    import pice.runner
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("a variant was run")
+
+    monkeypatch.setattr(pice.runner, "run_job", no_run)
+    job = write(tmp_path, WALL_JOB)
+    out = tmp_path / "study"
+    assert main(["study", str(job), "--vary", vary, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert key in err[0] and why in err[0]
+    assert not out.exists()
+
+
+# -- metrics of a run file ------------------------------------------------------------------------
+
+def hand_made_run(path: pathlib.Path, *, peaks: bool = True) -> pathlib.Path:
+    """4 rows at t = 0, 1, 2, 3 s; body 0 is the one measured, body 1 carries larger decoys."""
+    time = np.array([0.0, 1.0, 2.0, 3.0])
+    position = np.zeros((4, 2, 3))
+    position[:, 0] = [[10.0, 5.0, 0.0], [13.0, 9.0, 0.0], [10.0, 5.0, -1.0], [16.0, 13.0, 2.0]]
+    position[:, 1] = 1e3 * np.arange(4)[:, None]  # offsets of 1.7 km: not body 0's
+    force = np.zeros((4, 2, 3))
+    force[:, 0] = [[0.0, 0.0, 0.0], [2.0e5, 1.0, -3.0e4], [5.0e5, 0.0, 1.0e4], [1.0e5, 0.0, 0.0]]
+    force[:, 1] = 9e9
+    fmax, fmin = force.copy(), force.copy()
+    fmax[2, 0] = [7.0e5, 0.0, 2.0e4]    # the Fx peak lies between rows 1 and 2
+    fmin[3, 0] = [-1.0e5, 0.0, -8.0e4]  # so does the largest |Fz|, a downward one
+    tension = np.array([[1.0, 2.0, 3.0], [4.0e5, 2.0e5, 1.0e5], [3.0e5, 6.0e5, 1.0], [1.0, 1.0, 1.0]])
+    tmax = tension.copy()
+    tmax[3, 2] = 9.0e5
+    with h5py.File(path, "w") as f:
+        s = f.create_group("series")
+        s["time"], s["body_position"], s["ice_force"], s["fairlead_tension"] = time, position, force, tension
+        if peaks:
+            s["ice_force_max"], s["ice_force_min"], s["fairlead_tension_max"] = fmax, fmin, tmax
+    return path
+
+
+def test_metrics_of_a_hand_made_run(tmp_path):
+    m = run_metrics(hand_made_run(tmp_path / "run.h5"))
+    assert m["peak_load_x"] == 7.0e5  # ice_force_max row 2
+    assert m["peak_load_z"] == 8.0e4  # |ice_force_min| row 3
+    # horizontal distances from (10, 5): 0, 5 (3-4-5), 0 (z ignored), 10 (6-8-10)
+    assert m["mean_offset"] == 15.0 / 4 and m["max_offset"] == 10.0
+    assert m["max_fairlead_tension"] == 9.0e5  # fairlead_tension_max row 3, line 2
+    settled = run_metrics(tmp_path / "run.h5", settle=1.0)  # rows t = 1, 2, 3 s
+    assert settled["mean_offset"] == 5.0 and settled["max_offset"] == 10.0
+    assert settled["peak_load_x"] == 7.0e5  # loads are taken over the whole run
+    assert math.isnan(run_metrics(tmp_path / "run.h5", settle=4.0)["mean_offset"])  # no row that late
+
+
+def test_metrics_without_peak_series_use_the_rows(tmp_path):
+    m = run_metrics(hand_made_run(tmp_path / "run.h5", peaks=False))
+    assert m["peak_load_x"] == 5.0e5 and m["peak_load_z"] == 3.0e4 and m["max_fairlead_tension"] == 6.0e5
+
+
+def test_metrics_without_bodies_sum_the_walls(tmp_path):
+    wall = np.zeros((3, 2, 3))
+    wall[:, 0] = [[1.0, 0.0, 2.0], [3.0e3, 0.0, -4.0e3], [1.0e3, 0.0, 0.0]]
+    wall[:, 1] = [[0.0, 0.0, 0.0], [2.0e3, 0.0, -1.0e3], [5.0e3, 0.0, 0.0]]
+    with h5py.File(tmp_path / "walls.h5", "w") as f:
+        f["series/time"], f["series/wall_force"] = np.arange(3.0), wall
+    m = run_metrics(tmp_path / "walls.h5")
+    assert m["peak_load_x"] == 6.0e3 and m["peak_load_z"] == 5.0e3  # sums 5e3, 6e3 in x; -5e3 in z
+    for name in ("mean_offset", "max_offset", "max_fairlead_tension"):
+        assert math.isnan(m[name])
+
+
+def test_change_against_the_finest_variant():
+    assert change_percent(90.0, 100.0) == -10.0 and change_percent(-110.0, -100.0) == -10.0
+    assert change_percent(0.0, 0.0) == 0.0 and math.isnan(change_percent(1.0, 0.0))
+    rows = [{"particle_steps": n, "metrics": {"peak_load_x": x, "peak_load_z": 1.0, "mean_offset": float("nan"),
+                                               "max_offset": 2.0, "max_fairlead_tension": 3.0}}
+            for n, x in ((100, 80.0), (400, 100.0), (200, 125.0))]
+    assert compare(rows) == 1
+    assert [r["change_pct"]["peak_load_x"] for r in rows] == [-20.0, 0.0, 25.0]
+    assert math.isnan(rows[0]["change_pct"]["mean_offset"])
+    assert compare(rows, reference=0) == 0 and rows[1]["change_pct"]["peak_load_x"] == 25.0
+
+
+# -- the TOML writer --------------------------------------------------------------------------------
+
+def test_toml_text_round_trips():
+    data = {"gravity": 9.81, "n": 3, "flag": False, "empty": [], "inf": float("-inf"),
+            "run": {"dt": "auto", "name": 'say "hi"\n\tüber', "tiny": 1e-300},
+            "walls": [{"type": "plane", "normal": [0.0, 0.0, 1.0], "region": {"xmin": 1.0}},
+                      {"type": "triangle", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}],
+            "moorings": [{"body": "b", "segments": [{"length": 1.0}, {"length": 2.0}],
+                          "hull": {"size": [1.0, 2.0, 3.0]}}],
+            "a key": {"x.y": 1}}
+    assert tomllib.loads(toml_text(data, header="two\nlines")) == data
+    demo = tomllib.loads((REPO / "jobs" / "level_ice_demo.toml").read_text())
+    assert tomllib.loads(toml_text(demo)) == demo
+
+
+# -- end to end ------------------------------------------------------------------------------------
+
+def test_study_of_two_time_steps_writes_table_csv_json_and_png(tmp_path, capsys):
+    job = write(tmp_path, WALL_JOB)
+    out = tmp_path / "study"
+    assert main(["study", str(job), "--vary", "run.dt=2e-4,4e-4", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "run.dt" in printed and "0.0002" in printed and "0.0004" in printed and "(ref)" in printed
+    for name in ("tiny_0.toml", "tiny_0.h5", "tiny_1.toml", "tiny_1.h5", "study.csv", "study.json", "study.png"):
+        assert (out / name).is_file(), name
+    assert load_job(out / "tiny_1.toml").run.dt == 4e-4  # a variant is a job you can run again
+    with open(out / "study.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert [r["run.dt"] for r in rows] == ["0.0002", "0.0004"]
+    # 0.05 s in 250 and 125 steps of the 22 elements; the finer is the reference
+    assert [int(r["particle_steps"]) for r in rows] == [22 * 250, 22 * 125]
+    assert [r["reference"] for r in rows] == ["1", "0"]
+    for k, r in enumerate(rows):
+        with h5py.File(out / f"tiny_{k}.h5") as f:
+            fx = f["series/wall_force"][:, :, 0].sum(axis=1).max()
+            assert f.attrs["dt"] == (2e-4, 4e-4)[k]
+        assert fx > 1e4  # the sheet reached the slope
+        assert float(r["peak_load_x_N"]) == pytest.approx(fx, rel=1e-12)
+        assert float(r["wall_time_s"]) > 0 and r["mean_offset_m"] == "nan"
+    x0, x1 = float(rows[0]["peak_load_x_N"]), float(rows[1]["peak_load_x_N"])
+    assert float(rows[0]["peak_load_x_change_pct"]) == 0.0
+    assert float(rows[1]["peak_load_x_change_pct"]) == pytest.approx(100 * (x1 - x0) / x0, rel=1e-9)
+    study = json.loads((out / "study.json").read_text())
+    assert study["reference"] == 0 and study["varied"] == ["run.dt"] and study["loads_on"] == "the walls (sum)"
+    assert study["variants"][1]["values"] == {"run.dt": 4e-4} and study["variants"][1]["metrics"]["max_offset"] is None
+    png = (out / "study.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    assert int.from_bytes(png[16:20], "big") == 1200 and int.from_bytes(png[20:24], "big") == 700
