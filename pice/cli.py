@@ -77,10 +77,21 @@ def _cmd_check(args) -> int:
           f"k_bend {d['bond_kb']:.4g} N m/rad, k_twist {d['bond_kt']:.4g} N m/rad")
     print(f"  bond strength     normal {d['normal_strength']:.4g} Pa, shear {d['shear_strength']:.4g} Pa, "
           f"friction {d['bond_friction']:.3g}")
+    if "bodies" in d:
+        masses = ", ".join(f"{m / 1e3:,.1f} t" for m in d["body_mass"])
+        print(f"  bodies            {d['bodies']} ({masses})")
+        sub = f", {d['mooring_substeps']} line sub-step(s) per step" if d["mooring_substeps"] else " (quasi-static)"
+        print(f"  mooring lines     {d['mooring_lines']} with {d['mooring_nodes']:,} DEM nodes{sub}")
     print(f"  wall time / sim. s {wall_per_s:,.1f} s on this machine, 1 rank (probe of {probe} steps: "
           f"{d['elements'] / per_step:,.3g} particle-steps/s); the {job.run.duration:g} s job: "
           f"~{wall_per_s * job.run.duration:,.0f} s")
+    eff = TWO_RANK_EFFICIENCY
+    print(f"  on 2 ranks        ~{wall_per_s * job.run.duration / (2 * eff):,.0f} s for the job (at the {eff:.0%} "
+          "two-rank efficiency mpi/scaling.py measures; more ranks: see README, Speed)")
     return 0
+
+
+TWO_RANK_EFFICIENCY = 0.8  # mpi/scaling.py on this project's 2-core machine (README, Speed)
 
 
 def _cmd_export(args) -> int:
