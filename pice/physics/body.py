@@ -4,7 +4,8 @@ Equation of motion (Eq. 9 of Zhu & Ji 2022 without the radiation memory term):
     (M + M_add) u'' = F_ice + F_mooring + F_buoyancy + F_gravity + F_current - B |u'| u'
 with a constant, diagonal added mass in the body frame (surge, sway, heave, roll, pitch, yaw),
 quadratic damping per body-frame degree of freedom, buoyancy from the instantaneous submerged
-volume of the hull mesh (Eq. 12, kernels.hull) acting at the centre of buoyancy, and current
+volume of the hull mesh (Eq. 12, kernels.hull) plus that of its cylindrical braces cut by the
+water plane (Eqs. 13-14), acting at the combined centre of buoyancy, and current
 drag 1/2 rho C_d A |u_c - v| (u_c - v) on the horizontal motion. Motion is "free" or
 "prescribed" (a velocity history, e.g. a ship pushed at constant speed).
 
@@ -19,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..kernels.hull import submerged_volume, transform
+from ..kernels.hull import brace_submerged, submerged_volume, transform
 from ..kernels.rigid_body import angular_velocity, free_rotation, rotation_matrix
 
 
@@ -46,12 +47,28 @@ class RigidBody:
     damping: np.ndarray = field(default_factory=lambda: np.zeros(6))      # quadratic B [N s^2/m^2, N m s^2]
     current_drag: np.ndarray = field(default_factory=lambda: np.zeros(2))  # 1/2 rho C_d A along x, y [N s^2/m^2]
     prescribed: np.ndarray | None = None  # (k, 7) rows (t, vx, vy, vz, wx, wy, wz): velocity history
+    # (k, 7) rows (p0 (3), p1 (3), radius) [m], body frame: cylindrical braces, buoyancy only (Eqs. 13-14;
+    # no ice contact), e.g. scenes.hulls.semi_submersible_braces(); they must not overlap the mesh
+    braces: np.ndarray = field(default_factory=lambda: np.zeros((0, 7)))
+    brace_slices: int = 64           # segments per brace along its axis (Eq. 13)
     x: np.ndarray = field(default_factory=lambda: np.zeros(3))    # CG position [m]
     v: np.ndarray = field(default_factory=lambda: np.zeros(3))    # CG velocity [m/s]
     q: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0, 0.0]))
     L: np.ndarray = field(default_factory=lambda: np.zeros(3))    # angular momentum, space frame [kg m^2/s]
     force: np.ndarray = field(default_factory=lambda: np.zeros(3))
     torque: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def __post_init__(self) -> None:
+        b = np.asarray(self.braces, float)
+        if b.size == 0:
+            b = np.zeros((0, 7))
+        if b.ndim != 2 or b.shape[1] != 7:
+            raise ValueError(f"body {self.name!r}: braces must be (k, 7) rows (p0, p1, radius), got shape {b.shape}")
+        if np.any(b[:, 6] <= 0.0) or np.any(np.linalg.norm(b[:, 3:6] - b[:, :3], axis=1) <= 0.0):
+            raise ValueError(f"body {self.name!r}: every brace needs a radius > 0 m and distinct ends p0, p1")
+        if int(self.brace_slices) < 1:
+            raise ValueError(f"body {self.name!r}: brace_slices = {self.brace_slices}: must be >= 1")
+        self.braces = b
 
     @property
     def free(self) -> bool:
@@ -74,9 +91,28 @@ class RigidBody:
         return transform(self.vertices, rotation_matrix(self.q), self.x)
 
     # -- loads ---------------------------------------------------------------------------------
-    def hydrostatics(self, *, rho_w: float, g: float, level: float) -> tuple[np.ndarray, np.ndarray, float]:
-        """(force [N], moment about the CG [N m], submerged volume [m^3]) of buoyancy at this pose."""
+    def submerged(self, level: float) -> tuple[float, np.ndarray]:
+        """(submerged volume [m^3], centre of buoyancy (3,) [m], space frame) at this pose: the clipped
+        hull mesh (Eq. 12) plus the braces sliced along their axes (Eqs. 13-14). NaN centre when dry."""
         vol, cob = submerged_volume(self.hull_in_space(), self.triangles, level)
+        if len(self.braces) == 0:
+            return vol, cob
+        R = rotation_matrix(self.q)
+        mom = vol * cob if vol > 0.0 else np.zeros(3)
+        for row in self.braces:
+            vb, cb = brace_submerged(R @ row[:3] + self.x, R @ row[3:6] + self.x, row[6], level,
+                                     int(self.brace_slices))
+            if vb > 0.0:
+                vol += vb
+                mom = mom + vb * cb
+        if vol <= 0.0:
+            return 0.0, np.full(3, np.nan)
+        return vol, mom / vol
+
+    def hydrostatics(self, *, rho_w: float, g: float, level: float) -> tuple[np.ndarray, np.ndarray, float]:
+        """(force [N], moment about the CG [N m], submerged volume [m^3]) of buoyancy at this pose:
+        hull mesh and braces together, acting at their combined centre of buoyancy."""
+        vol, cob = self.submerged(level)
         if vol <= 0.0:
             return np.zeros(3), np.zeros(3), 0.0
         f = np.array([0.0, 0.0, rho_w * g * vol])

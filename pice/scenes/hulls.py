@@ -2,7 +2,9 @@
 
 Built from parameters (boxes, the semi-submersible of Zhu & Ji 2022) or read with meshio. Parts
 of a hull are separate closed meshes that touch without overlapping, so the submerged volumes of
-the parts add up (kernels.hull) and the contact sees their outer faces.
+the parts add up (kernels.hull) and the contact sees their outer faces. Braces are not
+triangles but cylinders (p0, p1, radius) whose buoyancy follows Eqs. 13-14 (semi_submersible_braces,
+RigidBody.braces); ``cylinder`` meshes one for drawing or checking.
 """
 
 from __future__ import annotations
@@ -53,17 +55,20 @@ def merge(parts) -> tuple[np.ndarray, np.ndarray]:
 
 
 def semi_submersible(*, length: float = 86.2, width: float = 64.6, draft: float = 14.0,
-                     pontoon_width: float = 14.0, pontoon_height: float = 8.0, column: float = 17.72,
+                     pontoon_width: float = 14.0, pontoon_height: float = 8.0, column: float = 16.68,
                      freeboard: float = 12.0, slope_deg: float = 10.0, cg_above_keel: float = 8.9):
-    """The moored semi-submersible of Zhu & Ji (2022), Table 3, as far as the paper describes it.
+    """The moored semi-submersible of Zhu & Ji (2022), Table 3, as far as the paper describes it:
+    the hull (pontoons and columns) as a closed triangle mesh. Its braces are cylinders, not
+    triangles: ``semi_submersible_braces`` with the same size parameters.
 
     Assumptions where the paper gives no drawing (docs/semi_submersible.md): a ring pontoon of
     ``pontoon_width`` x ``pontoon_height`` around the 86.2 m x 64.6 m footprint, four square corner
     columns of side ``column`` from the pontoon to ``freeboard`` above the still waterline, whose
     bow (+x) and stern (-x) faces lean out at ``slope_deg`` from the vertical (the 10-degree
-    ice-resistant slope of Table 3). The default sizes displace the 35,000 t of Table 3 at the 14 m
-    draft within 0.1 % with the centre of buoyancy 5.37 m above the keel (Table 3: 5.4 m). Body frame:
-    origin at the CG, ``cg_above_keel`` above the keel.
+    ice-resistant slope of Table 3). With the default braces, the default sizes displace the
+    35,000.5 t of Table 3 at the 14 m draft within 0.1 % (rho_w = 1025 kg/m^3) with the centre of
+    buoyancy 5.37 m above the keel (Table 3: 5.4 m); the braces displace 815 m^3 of it. Body
+    frame: origin at the CG, ``cg_above_keel`` above the keel.
     """
     zk = -cg_above_keel                     # keel
     zp = zk + pontoon_height                # pontoon top
@@ -85,3 +90,65 @@ def semi_submersible(*, length: float = 86.2, width: float = 64.6, draft: float 
             cy = sy * (width - column) / 2
             parts.append(sloped_block(column - lean, column + lean, column, zp, zt, (cx, cy)))
     return merge(parts)
+
+
+def semi_submersible_braces(*, length: float = 86.2, width: float = 64.6, draft: float = 14.0,
+                            pontoon_width: float = 14.0, pontoon_height: float = 8.0, column: float = 16.68,
+                            freeboard: float = 12.0, slope_deg: float = 10.0, cg_above_keel: float = 8.9,
+                            brace_diameter: float = 2.5, brace_height: float | None = None) -> np.ndarray:
+    """The braces of ``semi_submersible`` (same size parameters) as cylinders: (4, 7) rows
+    (p0 (3), p1 (3), radius) in the body frame [m], for ``RigidBody(braces=...)``, whose buoyancy
+    follows Eqs. 13-14 (kernels.hull.brace_submerged).
+
+    Assumption (the paper gives no drawing; docs/semi_submersible.md): four horizontal braces of
+    diameter ``brace_diameter`` join neighbouring columns along their centre lines, their axes
+    ``brace_height`` above the keel (default: half-way between the pontoon top and the still
+    waterline, 11 m; the brace tops are then 1.75 m below the water, under a 1 m ice sheet's
+    0.9 m draft). Each brace ends where its axis meets the column face, so no volume is counted
+    twice: on a vertical face the flat end is the face; on a 10-degree bow/stern face the flat end
+    enters the column above the axis by exactly the wedge it leaves open below it
+    (2 R^3 tan(slope) / 3 each), so the volume is that of the brace cut to fit the face.
+    pontoon_width does not enter (the braces sit above the pontoons); it is accepted so that both
+    functions take the same keywords.
+    """
+    del pontoon_width
+    R = brace_diameter / 2
+    zk = -cg_above_keel
+    zp = zk + pontoon_height
+    zt = zk + draft + freeboard
+    zb = zk + (brace_height if brace_height is not None else pontoon_height + (draft - pontoon_height) / 2)
+    if not (zp + R <= zb <= zt - R):
+        raise ValueError(f"brace_height = {zb - zk:g} m above the keel: the braces (radius {R:g} m) must lie "
+                         f"between the pontoon top ({pontoon_height:g} m) and the column top "
+                         f"({draft + freeboard:g} m)")
+    lean = math.tan(math.radians(slope_deg)) * (zt - zp)
+    f = (zb - zp) / (zt - zp)
+    x_face = length / 2 - column - lean * f   # inner (sloped) x face of the columns at the brace height
+    y_face = width / 2 - column               # inner (vertical) y face
+    cx = (length - column - lean) / 2         # column centre lines
+    cy = (width - column) / 2
+    if x_face <= 0.0 or y_face <= 0.0 or R > column / 2 - lean / 2:
+        raise ValueError(f"column = {column:g} m, brace_diameter = {brace_diameter:g} m: the columns overlap "
+                         "or the braces are wider than the columns")
+    rows = [(-x_face, sy * cy, zb, x_face, sy * cy, zb, R) for sy in (-1, 1)]   # along x (port, starboard)
+    rows += [(sx * cx, -y_face, zb, sx * cx, y_face, zb, R) for sx in (-1, 1)]  # along y (stern, bow)
+    return np.asarray(rows, float)
+
+
+def cylinder(p0, p1, radius: float, n: int = 64) -> tuple[np.ndarray, np.ndarray]:
+    """A closed n-sided prism around the segment p0 -> p1 (outward triangles): a brace as a mesh,
+    for drawing it or checking Eqs. 13-14 against the clipped-mesh volume of Eq. 12."""
+    p0, p1 = np.asarray(p0, float), np.asarray(p1, float)
+    a = (p1 - p0) / np.linalg.norm(p1 - p0)
+    u = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    w = np.cross(a, u)
+    phi = 2 * np.pi * np.arange(n) / n
+    ring = radius * (np.cos(phi)[:, None] * u + np.sin(phi)[:, None] * w)
+    v = np.vstack([p0 + ring, p1 + ring, p0, p1])      # 0..n-1 at p0, n..2n-1 at p1, caps' centres
+    c0, c1 = 2 * n, 2 * n + 1
+    tris = []
+    for i in range(n):
+        j = (i + 1) % n
+        tris += [(i, j, n + j), (i, n + j, n + i), (c0, j, i), (c1, n + i, n + j)]
+    return v, np.asarray(tris, np.int64)
