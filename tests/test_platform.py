@@ -8,7 +8,7 @@ from pice.kernels.rigid_body import rotation_matrix
 from pice.physics.body import RigidBody
 from pice.physics.mooring import build_lines
 from pice.physics.platform import Attachment, Platform
-from pice.scenes.hulls import semi_submersible
+from pice.scenes.hulls import semi_submersible, semi_submersible_braces
 from pice.scenes.moorings import spread_mooring, zhu_ji_fairleads
 
 CG = np.array([0.0, 0.0, -14.0 + 8.9])  # Table 3: CG 8.9 m above the keel, draft 14 m
@@ -24,6 +24,7 @@ def moored_semi():
     pull_down = -ml.reactions(ml.fairleads)[:, 2].sum()
     # Table 3's displacement at 14 m carries the hull and the lines' vertical pull at pretension
     body = RigidBody("semi", 35000.5e3 - pull_down / 9.81, np.array([3.0e10, 5.0e10, 6.0e10]), v, t,
+                     braces=semi_submersible_braces(),
                      damping=np.array([2e6, 2e6, 2e7, 1e12, 1e12, 1e12]))
     body.x = CG.copy()
     att = [Attachment(k, 0, lines[k][1] - CG) for k in range(len(lines))]

@@ -14,7 +14,6 @@ import numpy as np
 
 from ..errors import JobError
 from ..job_platform import heading_quaternion
-from ..kernels.hull import submerged_volume, transform
 from ..kernels.hull_contact import build_triangle_grid
 from ..kernels.rigid_body import rotation_matrix
 from ..physics.body import RigidBody
@@ -23,7 +22,7 @@ from ..physics.contact import damping_ratio_from_restitution
 from ..physics.mooring import LineSegment, build_lines
 from ..physics.platform import Attachment, MooringGroup, Platform
 from ..physics.quasi_static import QuasiStaticLines
-from .hulls import box, semi_submersible
+from .hulls import box, semi_submersible, semi_submersible_braces
 from .moorings import RHO_STEEL, spread_mooring
 
 log = logging.getLogger("pice")
@@ -124,8 +123,9 @@ def build_platform(job, hulls: list[Hull]) -> Platform:
     w, g = job.water, job.gravity
     bodies = []
     for spec, hull in zip(job.bodies, hulls):
+        braces = semi_submersible_braces() if spec.hull.type == "semi_submersible" else np.zeros((0, 7))
         body = RigidBody(spec.name, 1.0, np.asarray(spec.inertia, float), hull.vertices, hull.triangles,
-                         added_mass=np.asarray(spec.added_mass, float), damping=np.asarray(spec.damping, float),
+                         braces=braces, added_mass=np.asarray(spec.added_mass, float), damping=np.asarray(spec.damping, float),
                          current_drag=np.asarray(spec.current_drag, float),
                          prescribed=np.asarray(spec.velocity, float) if spec.motion == "prescribed" else None)
         body.x = np.asarray(spec.position, float)
@@ -136,8 +136,7 @@ def build_platform(job, hulls: list[Hull]) -> Platform:
     platform.loads()  # the lines' pull at t = 0, for "balance"
     for k, (spec, body) in enumerate(zip(job.bodies, bodies)):
         if spec.mass == "balance":
-            vol, _ = submerged_volume(transform(body.vertices, rotation_matrix(body.q), body.x), body.triangles,
-                                      w.level)
+            vol = body.submerged(w.level)[0]  # hull mesh and braces
             body.mass = w.density * vol + platform.mooring_force[k, 2] / g
             if body.mass <= 0.0:
                 raise JobError(f"{job.source}: bodies[{k}].mass = \"balance\": the hull displaces {vol:.4g} m^3 at "
