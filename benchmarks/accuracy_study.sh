@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The runs behind docs/accuracy.md and docs/reference_scene.md, on N ranks (default 2), in sequence.
-#   bash benchmarks/accuracy_study.sh [ranks] [stage ...]     stages: dt element mooring full thickness
+#   bash benchmarks/accuracy_study.sh [ranks] [stage ...]     stages: dt element mooring full coarse200 thickness
 # Each stage is a `pice study` of the reference scene (the coarse job unless it says "full"); its
 # table, study.csv/json and study.png land in runs/accuracy_<stage>/.
 set -euo pipefail
@@ -21,8 +21,11 @@ for stage in ${@:-dt element full mooring thickness}; do
     mooring)   run mooring "$SMALL" --vary run.duration=10.0 --vary "moorings[0].element_length=5.0,10.0,20.0,40.0" ;;
     # the full-size sheet (92,000 elements) as long as fits here
     full)      run full jobs/zhu_ji_2022_semisub.toml --vary run.duration=4.0 ;;
+    # the full-size sheet and duration (200 s) with 2 m elements: the whole run, coarse
+    coarse200) run coarse200 jobs/zhu_ji_2022_semisub.toml --vary ice.element_diameter=2.0 \
+                 --vary "moorings[0].element_length=20.0" ;;
     # the thickness sweep of section 4.3 on the coarse scene, 60 s each
     thickness) run thickness "$SMALL" --vary ice.thickness=1.0,1.2,1.4,1.6 ;;
-    *) echo "unknown stage $stage (dt element mooring full thickness)"; exit 2 ;;
+    *) echo "unknown stage $stage (dt element mooring full coarse200 thickness)"; exit 2 ;;
   esac
 done
