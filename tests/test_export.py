@@ -11,31 +11,11 @@ import h5py
 import meshio
 import numpy as np
 import pytest
+from tiny_jobs import slope_job
 
 from pice.cli import main
 
-JOB = """
-[run]
-duration = 0.1
-series_every = 2
-snapshots = 4
-[water]
-density = 1035.0
-current = [1.0, 0.0]
-[ice]
-length = 6.0
-width = 4.0
-velocity = [1.0, 0.0]
-[bond]
-normal_stiffness = 1.72e7
-normal_strength = 1.5e6
-friction = 0.3
-[[walls]]
-name = "slope"
-type = "plane"
-point = [6.53, 0.0, 0.0]
-normal = [-0.7071068, 0.0, 0.7071068]
-[[walls]]
+JOB = slope_job(duration=0.1, snapshots=4) + """[[walls]]
 name = "side_triangle"
 type = "triangle"
 vertices = [[0.0, 8.0, -1.0], [4.0, 8.0, -1.0], [2.0, 8.0, 2.0]]

@@ -2,31 +2,11 @@
 
 import h5py
 import numpy as np
+from tiny_jobs import slope_job
 
 from pice.cli import main
 
-JOB = """
-[run]
-duration = 0.1
-series_every = 2
-snapshots = 3
-[water]
-density = 1035.0
-current = [1.0, 0.0]
-[ice]
-length = 6.0
-width = 4.0
-velocity = [1.0, 0.0]
-[bond]
-normal_stiffness = 1.72e7
-normal_strength = 1.5e6
-friction = 0.3
-[[walls]]
-name = "slope"
-type = "plane"
-point = [6.53, 0.0, 0.0]  # clear of the sheet at t = 0, touched within 0.05 s
-normal = [-0.7071068, 0.0, 0.7071068]
-"""
+JOB = slope_job(duration=0.1, snapshots=3)
 
 
 def test_run_writes_series_snapshots_and_attributes(tmp_path, capsys):

@@ -19,6 +19,7 @@ import pathlib
 import h5py
 import numpy as np
 import pytest
+from tiny_jobs import slope_job
 
 from pice.cli import main
 from pice.errors import JobError
@@ -35,28 +36,7 @@ except ModuleNotFoundError:  # pragma: no cover
 REPO = pathlib.Path(__file__).parents[1]
 
 # the slope job of tests/test_run_file.py, 0.05 s: 22 elements, touching the slope within 0.05 s
-WALL_JOB = """\
-[run]
-duration = 0.05
-series_every = 2
-snapshots = 1
-[water]
-density = 1035.0
-current = [1.0, 0.0]
-[ice]
-length = 6.0
-width = 4.0
-velocity = [1.0, 0.0]
-[bond]
-normal_stiffness = 1.72e7
-normal_strength = 1.5e6
-friction = 0.3
-[[walls]]
-name = "slope"
-type = "plane"
-point = [6.53, 0.0, 0.0]
-normal = [-0.7071068, 0.0, 0.7071068]
-"""
+WALL_JOB = slope_job(duration=0.05, snapshots=1)
 
 # a moored barge (the job of tests/test_platform_run.py), only validated here, never run
 MOORED_JOB = WALL_JOB.replace('[[walls]]\nname = "slope"\ntype = "plane"\npoint = [6.53, 0.0, 0.0]\n'
