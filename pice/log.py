@@ -18,16 +18,15 @@ def launch_rank() -> int:
     return 0
 
 
-class _StderrHandler(logging.StreamHandler):
-    """Writes to whatever sys.stderr is at the time of each record (tests and tools swap it)."""
+class _StderrHandler(logging.Handler):
+    """Writes each record to whatever sys.stderr is at that moment (tests and tools swap it)."""
 
-    @property
-    def stream(self):
-        return sys.stderr
-
-    @stream.setter
-    def stream(self, value):  # StreamHandler.__init__ assigns it; the property always follows sys.stderr
-        pass
+    def emit(self, record: logging.LogRecord) -> None:
+        try:
+            sys.stderr.write(self.format(record) + "\n")
+            sys.stderr.flush()
+        except Exception:  # logging's own policy: report through handleError, never raise
+            self.handleError(record)
 
 
 def configure(level: int | None = None) -> logging.Logger:
