@@ -15,6 +15,7 @@ from time import perf_counter
 
 import numpy as np
 
+from . import bodies
 from .errors import InstabilityError
 from .kernels.bonds import bond_energy, bond_forces, sync_mate_history
 from .kernels.contacts import contact_forces
@@ -78,7 +79,7 @@ class Simulation:
         self.coupling = BodyCoupling(self.comm, len(job.walls) + len(self.hulls))
         self.wall_total = None
         self.body_total = None
-        self._peaks = None  # rank 0: load extremes since the last series row (_track_peaks)
+        self.peaks = bodies.Peaks()  # rank 0: load extremes since the last series row
         self.gravity = job.gravity
         p.allocate_dynamic(len(kinds), len(self.hulls))
         p.heave_damping = heave_damping(job, p)
@@ -158,16 +159,12 @@ class Simulation:
         self.poses = np.zeros((0, 13))
         if not self.job.bodies:
             return
-        from .job_platform import heading_quaternion
         from .scenes.platform import build_platform, hulls_from_job
 
         self.hulls = hulls_from_job(self.job, default_kn=float(self.contact_params[0]),
                                     reach=float(self.p.radius.max()), base_dir=base_dir)
-        self.poses = np.zeros((len(self.hulls), 13))
-        for k, b in enumerate(self.job.bodies):  # the pose at t = 0, as the job gives it
-            self.poses[k, :3] = b.position
-            self.poses[k, 3:7] = heading_quaternion(b.heading)
-        self._refuse_initial_hull_overlap()
+        self.poses = bodies.initial_poses(self.job)
+        bodies.refuse_initial_overlap(self.job, self.p, self.hulls, self.poses)
         error = None
         if self.comm.rank == 0:
             try:
@@ -183,25 +180,6 @@ class Simulation:
         """Rank 0's body poses (x, q, v, omega per body) onto every rank."""
         poses = self.platform.poses() if self.platform is not None else np.zeros((len(self.hulls), 13))
         self.poses = self.comm.bcast_array(poses)
-
-    def _refuse_initial_hull_overlap(self) -> None:
-        """A hull that cuts into the ice at t = 0 would fire elements off: refuse it with the fix."""
-        from .errors import JobError
-
-        p = self.p
-        for k, h in enumerate(self.hulls):
-            f, t = np.zeros((p.n, 3)), np.zeros((p.n, 3))
-            params = h.params.copy()
-            params[1:] = 0.0
-            pose = self.poses[k].copy()
-            pose[7:] = 0.0
-            hull_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, pose,
-                        h.vertices, h.triangles, *h.grid, params, np.zeros((p.n, 3)), 0.0, f, t)
-            n_el = int(np.count_nonzero(np.abs(f).sum(axis=1) > 0))  # the whole sheet, before distribution
-            if n_el:
-                raise JobError(f"{self.job.source}: bodies[{k}] ({h.name}): its hull overlaps {int(n_el)} ice "
-                               "element(s) at t = 0; move the body (bodies.position) or the sheet (ice.origin) "
-                               "so that they start apart")
 
     def _refuse_initial_wall_overlap(self) -> None:
         """A wall that cuts into the ice at t = 0 would fire elements off: refuse it with the fix."""
@@ -421,23 +399,7 @@ class Simulation:
                 self.wall_total, self.body_total = total[:nw], total[nw:]
             if self.platform is not None:
                 self.platform.loads(self.body_total)
-                self._track_peaks()
-
-    def _track_peaks(self) -> None:
-        """Rank 0: extremes and sums of the ice loads and line tensions since the last series row, so
-        that rows every N steps still report the peaks designers need."""
-        ice, pf = self.body_total[:, :3], self.platform
-        tension = pf.fairlead_tensions()
-        t = self._peaks
-        if t is None:
-            self._peaks = dict(n=1, ice_sum=ice.copy(), ice_max=ice.copy(), ice_min=ice.copy(),
-                               tension_max=tension.copy())
-            return
-        t["n"] += 1
-        t["ice_sum"] += ice
-        np.maximum(t["ice_max"], ice, out=t["ice_max"])
-        np.minimum(t["ice_min"], ice, out=t["ice_min"])
-        np.maximum(t["tension_max"], tension, out=t["tension_max"])
+                self.peaks.track(self.body_total[:, :3], self.platform.fairlead_tensions())
 
     def step(self) -> None:
         p, dt = self.p, self.dt
@@ -550,44 +512,12 @@ class Simulation:
         return row
 
     def platform_snapshot(self, first: bool = False) -> dict | None:
-        """Rank 0's snapshot arrays of the bodies and lines: body_pose (n_bodies, 13), mooring_x
-        (k, 3) points along the lines [m] and mooring_line (k,) the line of each; the first snapshot
-        also holds each hull in its body frame (hull<k>_vertices, hull<k>_triangles). None elsewhere."""
-        pf = self.platform
-        if pf is None:
-            return None
-        out = {"body_pose": pf.poses()}
-        if first:
-            for k, h in enumerate(self.hulls):
-                out[f"hull{k}_vertices"] = h.vertices
-                out[f"hull{k}_triangles"] = h.triangles
-        if pf.n_lines:
-            x, line = pf.polylines()
-            out.update(mooring_x=x, mooring_line=line)
-        return out
+        """Rank 0's snapshot arrays of the bodies and lines (pice.bodies.snapshot_arrays); None elsewhere."""
+        return None if self.platform is None else bodies.snapshot_arrays(self.platform, self.hulls, first)
 
     def platform_row(self) -> dict[str, np.ndarray]:
-        """Rank 0's series entries of the bodies and lines (SI units, angles in rad)."""
-        from .physics.body import euler_angles
-
-        pf = self.platform
-        ice = self.body_total if self.body_total is not None else np.zeros((len(pf.bodies), 6))
-        row = dict(body_position=np.array([b.x for b in pf.bodies]),
-                   body_rotation=np.array([euler_angles(b.q) for b in pf.bodies]),
-                   body_velocity=np.array([b.v for b in pf.bodies]),
-                   body_angular_velocity=np.array([b.omega for b in pf.bodies]),
-                   ice_force=ice[:, :3].copy(), ice_moment=ice[:, 3:].copy(),
-                   mooring_force=pf.mooring_force.copy())
-        t = self._peaks
-        if t is not None:  # over the steps since the previous row (this row's step included)
-            row.update(ice_force_mean=t["ice_sum"] / t["n"], ice_force_max=t["ice_max"], ice_force_min=t["ice_min"])
-        if pf.n_lines:
-            row["fairlead_tension"] = pf.fairlead_tensions()
-            row["anchor_tension"] = pf.anchor_tensions()
-            if t is not None:
-                row["fairlead_tension_max"] = t["tension_max"]
-        self._peaks = None
-        return row
+        """Rank 0's series entries of the bodies and lines, with the peaks since the previous row."""
+        return bodies.series_entries(self.platform, self.body_total, self.peaks.take())
 
     def describe(self) -> dict:
         """Facts for `pice check` and the run file's attributes."""
@@ -599,16 +529,8 @@ class Simulation:
                     dt_governed_by=self.limit.governed_by, steps_per_second=1.0 / self.dt,
                     bond_kn=self.bond.kn, bond_ks=self.bond.ks, bond_kb=self.bond.kb, bond_kt=self.bond.kt,
                     normal_strength=self.bond.normal_strength, shear_strength=self.bond.shear_strength,
-                    bond_friction=self.bond.friction, element_mass=float(p.mass[0]), **self._describe_platform())
-
-    def _describe_platform(self) -> dict:
-        pf = self.platform
-        if pf is None:
-            return {}
-        nodes = sum(len(g.lines.x) for g in pf.groups if hasattr(g.lines, "x"))
-        sub = max(1, int(math.ceil(self.dt / pf.line_dt - 1e-12))) if math.isfinite(pf.line_dt) else 0
-        return dict(bodies=len(pf.bodies), body_mass=[b.mass for b in pf.bodies], mooring_lines=pf.n_lines,
-                    mooring_nodes=nodes, mooring_substeps=sub)
+                    bond_friction=self.bond.friction, element_mass=float(p.mass[0]), 
+                    **(bodies.describe(self.platform, self.dt) if self.platform is not None else {}))
 
     @property
     def total_steps(self) -> int:
