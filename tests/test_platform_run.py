@@ -170,3 +170,22 @@ def test_run_file_and_vtk_carry_the_platform(tmp_path):
     np.testing.assert_allclose(hull.points, v0 @ rotation_matrix(pose[3:7]).T + pose[:3], atol=1e-12)
     lines = meshio.read(tmp_path / "vtk" / "moorings_00002.vtu")
     assert len(lines.cells_dict["line"]) == 4 * 12  # 120 m lines in 10 m elements
+
+
+def test_quasi_static_lines_pull_as_the_elastic_catenary():
+    """The quasi-static model's pull on a fairlead is the elastic catenary's (physics.catenary,
+    Irvine 1981): horizontal tension H towards the anchor and the fairlead's vertical tension V down;
+    at t = 0 each line holds the 20 kN pretension its anchor was placed for (layout solve, 1e-6)."""
+    from pice.physics.catenary import Segment, solve_line
+
+    sim = Simulation(make(job_text(mooring="quasi_static")))
+    lines = sim.platform.groups[0].lines
+    np.testing.assert_allclose(lines.fairlead_tensions(), 20.0e3, rtol=1e-6)
+    lines.advance(0.0, 1, lines.fairlead_x + np.array([3.0, -1.0, 0.5]))  # move every fairlead
+    for k in range(4):
+        d = lines.fairlead_x[k] - lines.anchors_x[k]
+        st = solve_line([Segment(120.0, 150.0, 5.0e8)], horizontal=float(np.hypot(d[0], d[1])),
+                        vertical=float(d[2]), seabed=True)
+        e = d[:2] / np.hypot(d[0], d[1])
+        np.testing.assert_allclose(lines.pull[k], [-st.horizontal_tension * e[0], -st.horizontal_tension * e[1],
+                                                   -st.fairlead_vertical], rtol=1e-9)
