@@ -132,8 +132,9 @@ def test_denied_path_from_the_command_line(tmp_path, capsys):
     from pice.cli import main
 
     job = tmp_path / "tiny.toml"
-    job.write_text((pathlib.Path(__file__).parent / "test_run_file.py").read_text().split('JOB = """')[1]
-                   .split('"""')[0])
+    from tiny_jobs import slope_job
+
+    job.write_text(slope_job(duration=0.1, snapshots=3))
     assert main(["run", str(job), "-o", "/proc/forbidden.h5"]) == 4
     err = capsys.readouterr().err
     assert "/proc/forbidden.h5: cannot create the run file" in err and "-o" in err, err
