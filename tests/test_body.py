@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pice.kernels.hull import brace_submerged, submerged_volume
-from pice.kernels.rigid_body import rotation_matrix
+from pice.kernels.geometry import rotation_matrix
 from pice.physics.body import RigidBody
 from pice.scenes.hulls import (
     box,

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pice.kernels.hull_contact import build_triangle_grid, hull_forces
-from pice.kernels.rigid_body import rotation_matrix
+from pice.kernels.geometry import rotation_matrix
 from pice.scenes.hulls import box
 
 PARAMS = np.array([1e7, 5e6, 0.0, 0.3])  # kn [N/m], kt [N/m], zeta, mu

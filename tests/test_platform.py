@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from pice.kernels.rigid_body import rotation_matrix
+from pice.kernels.geometry import rotation_matrix
 from pice.physics.body import RigidBody
 from pice.physics.mooring import build_lines
 from pice.physics.platform import Attachment, Platform

@@ -17,7 +17,7 @@ import pytest
 from pice.io.checkpoint import read_checkpoint, write_checkpoint
 from pice.io.vtk_export import export_vtk
 from pice.job import parse_job
-from pice.kernels.rigid_body import rotation_matrix
+from pice.kernels.geometry import rotation_matrix
 from pice.runner import run_job
 from pice.simulation import Simulation
 

@@ -7,8 +7,8 @@ import pytest
 from scipy.spatial import ConvexHull, HalfspaceIntersection
 
 from pice.kernels.hull import submerged_volume, transform
-from pice.kernels.rigid_body import (angular_velocity, body_rates, free_rotation, quat_mul, rigid_step,
-                                     rotation_matrix, rotational_energy)
+from pice.kernels.geometry import quat_mul, rotation_matrix
+from pice.kernels.rigid_body import angular_velocity, body_rates, free_rotation, rigid_step, rotational_energy
 
 pytestmark = pytest.mark.nojit
 

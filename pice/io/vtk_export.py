@@ -238,7 +238,7 @@ def bodies_block(run: Run, key: str):
     import meshio
 
     from ..kernels.hull import transform
-    from ..kernels.rigid_body import rotation_matrix
+    from ..kernels.geometry import rotation_matrix
 
     g, first = run.snapshot(key), run.snapshot(0)
     if "body_pose" not in g:

@@ -17,7 +17,7 @@ import numpy as np
 from numba import njit
 
 from . import JIT
-from .walls import closest_point_on_triangle
+from .geometry import closest_point_on_triangle, rotation_matrix
 
 
 def build_triangle_grid(vertices: np.ndarray, triangles: np.ndarray, *, reach: float):
@@ -51,13 +51,7 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
     pose: (13,) x_cg, q (w, x, y, z), v_cg, omega (space frame). hist: (n, 3) tangential force [N].
     """
     xc = pose[0:3]
-    qw, qx, qy, qz = pose[3], pose[4], pose[5], pose[6]
-    s = 2.0 / (qw * qw + qx * qx + qy * qy + qz * qz)
-    R = np.array([
-        [1.0 - s * (qy * qy + qz * qz), s * (qx * qy - qw * qz), s * (qx * qz + qw * qy)],
-        [s * (qx * qy + qw * qz), 1.0 - s * (qx * qx + qz * qz), s * (qy * qz - qw * qx)],
-        [s * (qx * qz - qw * qy), s * (qy * qz + qw * qx), 1.0 - s * (qx * qx + qy * qy)],
-    ])
+    R = rotation_matrix(pose[3:7])
     vb = pose[7:10]
     om = pose[10:13]
     kn, kt, zeta, mu = params[0], params[1], params[2], params[3]

@@ -14,29 +14,7 @@ import numpy as np
 from numba import njit
 
 from . import JIT
-
-
-@njit(**JIT)
-def quat_mul(a, b):
-    """Hamilton product a b of quaternions (w, x, y, z)."""
-    return np.array([
-        a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
-        a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
-        a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
-        a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
-    ])
-
-
-@njit(**JIT)
-def rotation_matrix(q):
-    """3 x 3 matrix R(q) taking body-frame vectors to the space frame (q need not be normalised)."""
-    w, x, y, z = q[0], q[1], q[2], q[3]
-    s = 2.0 / (w * w + x * x + y * y + z * z)
-    return np.array([
-        [1.0 - s * (y * y + z * z), s * (x * y - w * z), s * (x * z + w * y)],
-        [s * (x * y + w * z), 1.0 - s * (x * x + z * z), s * (y * z - w * x)],
-        [s * (x * z - w * y), s * (y * z + w * x), 1.0 - s * (x * x + y * y)],
-    ])
+from .geometry import quat_mul, rotation_matrix
 
 
 @njit(**JIT)

@@ -12,45 +12,7 @@ import numpy as np
 from numba import njit
 
 from . import JIT
-
-
-@njit(**JIT)
-def closest_point_on_triangle(p, a, b, c, out):
-    """Closest point to p on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5)."""
-    ab = b - a
-    ac = c - a
-    ap = p - a
-    d1 = ab @ ap
-    d2 = ac @ ap
-    if d1 <= 0.0 and d2 <= 0.0:
-        out[:] = a
-        return
-    bp = p - b
-    d3 = ab @ bp
-    d4 = ac @ bp
-    if d3 >= 0.0 and d4 <= d3:
-        out[:] = b
-        return
-    vc = d1 * d4 - d3 * d2
-    if vc <= 0.0 and d1 >= 0.0 and d3 <= 0.0:
-        out[:] = a + (d1 / (d1 - d3)) * ab
-        return
-    cp = p - c
-    d5 = ab @ cp
-    d6 = ac @ cp
-    if d6 >= 0.0 and d5 <= d6:
-        out[:] = c
-        return
-    vb = d5 * d2 - d1 * d6
-    if vb <= 0.0 and d2 >= 0.0 and d6 <= 0.0:
-        out[:] = a + (d2 / (d2 - d6)) * ac
-        return
-    va = d3 * d6 - d5 * d4
-    if va <= 0.0 and (d4 - d3) >= 0.0 and (d5 - d6) >= 0.0:
-        out[:] = b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b)
-        return
-    denom = 1.0 / (va + vb + vc)
-    out[:] = a + ab * (vb * denom) + ac * (vc * denom)
+from .geometry import closest_point_on_triangle
 
 
 @njit(**JIT)

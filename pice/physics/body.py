@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..kernels.hull import brace_submerged, submerged_volume, transform
-from ..kernels.rigid_body import angular_velocity, free_rotation, rotation_matrix
+from ..kernels.geometry import rotation_matrix
+from ..kernels.rigid_body import angular_velocity, free_rotation
 
 
 def euler_angles(q) -> np.ndarray:

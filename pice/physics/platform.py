@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kernels.rigid_body import rotation_matrix
+from ..kernels.geometry import rotation_matrix
 from .body import RigidBody
 
 

@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import JobError
 from ..job_platform import heading_quaternion
 from ..kernels.hull_contact import build_triangle_grid
-from ..kernels.rigid_body import rotation_matrix
+from ..kernels.geometry import rotation_matrix
 from ..physics.body import RigidBody
 from ..physics.catenary import Segment
 from ..physics.contact import damping_ratio_from_restitution
