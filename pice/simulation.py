@@ -26,7 +26,7 @@ from .kernels.integrate import drift, kick, max_step_displacement
 from .kernels.walls import wall_forces
 from .kernels.hydro import hydro_forces
 from .physics.bond import bond_params_from_job
-from .physics.contact import contact_params
+from .physics.contact import ice_contact_law
 from .physics.hydro import heave_damping, water_array
 from .physics.timestep import choose_step, stable_step
 from .physics.walls import build_walls
@@ -65,8 +65,8 @@ class Simulation:
         m0, i0 = float(p.mass.min()), float(p.inertia.min())
         self.bond = bond_params_from_job(job, n_layers=self.sheet.n_layers, spacing=self.sheet.spacing)
         self.bond_params = self.bond.as_array(mass=m0, inertia=i0)
-        self.contact_params = contact_params(job, bond_kn=self.bond.kn)
-        kinds, geom, wparams, names, owner = build_walls(job, default_kn=self.contact_params[0], base_dir=base_dir)
+        self.contact_law = ice_contact_law(job, bond_kn=self.bond.kn)
+        kinds, geom, wparams, names, owner = build_walls(job, default_kn=self.contact_law.kn, base_dir=base_dir)
         self.wall_kinds, self.wall_geometry, self.wall_params = kinds, geom, wparams
         self.wall_names, self.wall_owner = names, owner
         self.wall_force = np.zeros((len(kinds), 3))
@@ -161,7 +161,7 @@ class Simulation:
             return
         from .scenes.platform import build_platform, hulls_from_job
 
-        self.hulls = hulls_from_job(self.job, default_kn=float(self.contact_params[0]),
+        self.hulls = hulls_from_job(self.job, default_kn=self.contact_law.kn,
                                     reach=float(self.p.radius.max()), base_dir=base_dir)
         self.poses = bodies.initial_poses(self.job)
         bodies.refuse_initial_overlap(self.job, self.p, self.hulls, self.poses)
@@ -190,7 +190,7 @@ class Simulation:
         p = self.p
         f, t, wf = np.zeros((p.n, 3)), np.zeros((p.n, 3)), np.zeros((len(self.wall_kinds), 3))
         params = self.wall_params.copy()
-        params[:, 1:] = 0.0  # elastic normal force only
+        params["kt"], params["zeta"], params["mu"] = 0.0, 0.0, 0.0  # elastic normal force only
         wall_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, self.wall_kinds,
                     self.wall_geometry, params, np.zeros_like(p.wall_hist), 0.0, f, t, wf, np.zeros_like(wf))
         hit = np.nonzero(np.abs(wf).sum(axis=1) > 0)[0]
@@ -345,14 +345,14 @@ class Simulation:
     def _time_step(self):
         p, b = self.p, self.bond
         push = self.job.ice.push
-        kw = max([0.0] + [float(k) for k in self.wall_params[:, 0]] + [float(h.params[0]) for h in self.hulls] +
+        kw = max([0.0] + [float(k) for k in self.wall_params["kn"]] + [float(h.params[0]) for h in self.hulls] +
                  [push.stiffness if push is not None and push.stiffness is not None else 0.0])
         i = int(np.argmin(p.mass))
         stable, why = stable_step(mass=float(p.mass[i]), inertia=float(p.inertia[i]), d=self.sheet.spacing,
                                   n_layers=self.sheet.n_layers, bond=(b.kn, b.ks, b.kt, b.kb),
-                                  contact=(float(self.contact_params[0]), float(self.contact_params[1])),
+                                  contact=(self.contact_law.kn, self.contact_law.kt),
                                   wall_stiffness=kw, damping_ratio=b.damping_ratio,
-                                  contact_damping_ratio=float(self.contact_params[2]))
+                                  contact_damping_ratio=self.contact_law.zeta)
         run = self.job.run
         return choose_step(requested=run.dt, safety=run.dt_safety, stable=stable, governed_by=why,
                            allow_unstable=run.allow_unstable_dt, source=self.job.source)
@@ -372,7 +372,7 @@ class Simulation:
                 c.events.append((c.step, c.time, int(a), int(b), int(mode)))
         c.contacts, c.contact_energy = contact_forces(
             p.nlocal, p.n, p.gid, p.x, p.v, p.w, p.radius, p.mass, p.bond_j, p.contact_gid, p.contact_stamp,
-            p.contact_hist, self.contact_params, self.dt, c.step, self.cell_size, p.force, p.torque)
+            p.contact_hist, self.contact_law, self.dt, c.step, self.cell_size, p.force, p.torque)
         self.wall_force[:] = 0.0
         self.wall_moment[:] = 0.0
         if len(self.wall_kinds):

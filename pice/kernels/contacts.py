@@ -1,11 +1,8 @@
-"""Contact between unbonded spheres: cell list, linear spring-dashpot with Coulomb friction.
+"""Contact between unbonded spheres: cell-list search and the shared contact law (contact_law.py).
 
-Normal force F_n = k_n delta + c_n v_approach (never tensile), c_n = 2 zeta sqrt(m_eff k_n) with zeta
-from the restitution coefficient. Tangential: incremental spring k_t with history, capped at
-mu F_n (Coulomb). The history of a contact is kept per particle in slots keyed by the partner's gid
-and, like bonds, computed in canonical orientation (lower gid first) so both ends agree.
-
-params: 0 kn [N/m]  1 kt [N/m]  2 zeta  3 mu
+The effective mass of a pair is m_a m_b / (m_a + m_b). The tangential history of a contact is kept
+per particle in slots keyed by the partner's gid and, like bonds, computed in canonical orientation
+(lower gid first) so both ends agree.
 """
 
 import math
@@ -14,6 +11,7 @@ import numpy as np
 from numba import njit
 
 from . import JIT
+from .contact_law import contact_energy, normal_force, tangential_force
 
 
 @njit(**JIT)
@@ -102,15 +100,16 @@ def _bonded(bond_j, i, j):
 
 
 @njit(**JIT)
-def contact_forces(nlocal, ntotal, gid, x, v, w, radius, mass, bond_j, cgid, stamp, chist, params,
+def contact_forces(nlocal, ntotal, gid, x, v, w, radius, mass, bond_j, cgid, stamp, chist, law,
                    dt, step, cell_size, force, torque):
-    """Add contact forces between unbonded overlapping spheres. Returns (contacts, elastic energy [J])."""
-    kn, kt, zeta, mu = params[0], params[1], params[2], params[3]
+    """Add contact forces between unbonded overlapping spheres. Returns (contacts, elastic energy [J]).
+
+    law: the contact law's parameters (physics.contact.ContactLaw: kn, kt, zeta, mu).
+    """
     origin, dims, start, order, size = build_cell_list(x, ntotal, cell_size)
     ncontacts = 0
     energy = 0.0
     n = np.empty(3)
-    ft = np.empty(3)
     for i in range(nlocal):
         cx = _cell_index((x[i, 0] - origin[0]) / size, dims[0])
         cy = _cell_index((x[i, 1] - origin[1]) / size, dims[1])
@@ -149,69 +148,52 @@ def contact_forces(nlocal, ntotal, gid, x, v, w, radius, mass, bond_j, cgid, sta
                         b = j if i_is_a else i
                         ncontacts += 1
                         energy += _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, gid, cgid, stamp,
-                                        chist, kn, kt, zeta, mu, dt, step, n, ft, force, torque)
+                                        chist, law, dt, step, n, force, torque)
     return ncontacts, energy
 
 
 @njit(**JIT)
-def _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, gid, cgid, stamp, chist,
-          kn, kt, zeta, mu, dt, step, n, ft, force, torque):
+def _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, gid, cgid, stamp, chist, law, dt, step, n,
+          force, torque):
+    """The contact law (contact_law.py) on the pair (a, b) = (lower gid, higher gid), seen from a."""
     d0 = x[b, 0] - x[a, 0]
     d1 = x[b, 1] - x[a, 1]
     d2 = x[b, 2] - x[a, 2]
     L = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-    n[0] = d0 / L
+    n[0] = d0 / L  # from a towards b
     n[1] = d1 / L
     n[2] = d2 / L
     delta = radius[a] + radius[b] - L
     ca = radius[a] - 0.5 * delta
     cb = radius[b] - 0.5 * delta
+    # velocity of b's contact point relative to a's
     vr0 = (v[b, 0] - cb * (w[b, 1] * n[2] - w[b, 2] * n[1])) - (v[a, 0] + ca * (w[a, 1] * n[2] - w[a, 2] * n[1]))
     vr1 = (v[b, 1] - cb * (w[b, 2] * n[0] - w[b, 0] * n[2])) - (v[a, 1] + ca * (w[a, 2] * n[0] - w[a, 0] * n[2]))
     vr2 = (v[b, 2] - cb * (w[b, 0] * n[1] - w[b, 1] * n[0])) - (v[a, 2] + ca * (w[a, 0] * n[1] - w[a, 1] * n[0]))
     vn = vr0 * n[0] + vr1 * n[1] + vr2 * n[2]
-    m_eff = mass[a] * mass[b] / (mass[a] + mass[b])
-    cn = 2.0 * zeta * math.sqrt(m_eff * kn)
-    fn = kn * delta - cn * vn  # repulsive magnitude; vn < 0 when approaching
-    if fn < 0.0:
-        fn = 0.0
-    # tangential history from i's slot
+    fn = normal_force(law.kn, law.zeta, mass[a] * mass[b] / (mass[a] + mass[b]), delta, vn)
+    # tangential history from i's slot (the force on a)
     si, found = _find_slot(cgid, stamp, i, gid[j], step)
-    if found:
-        for k in range(3):
-            ft[k] = chist[i, si, k]
-    else:
-        for k in range(3):
-            ft[k] = 0.0
-    dn = ft[0] * n[0] + ft[1] * n[1] + ft[2] * n[2]
-    for k in range(3):
-        ft[k] -= dn * n[k]
-    ft[0] += kt * (vr0 - vn * n[0]) * dt
-    ft[1] += kt * (vr1 - vn * n[1]) * dt
-    ft[2] += kt * (vr2 - vn * n[2]) * dt
-    ftm = math.sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2])
-    cap = mu * fn
-    if ftm > cap:
-        s = cap / ftm if ftm > 0.0 else 0.0
-        for k in range(3):
-            ft[k] *= s
-        ftm = cap
+    h0 = chist[i, si, 0] if found else 0.0
+    h1 = chist[i, si, 1] if found else 0.0
+    h2 = chist[i, si, 2] if found else 0.0
+    # in the law's terms, a is the element: normal -n (from b to a), velocity -vr (a relative to b)
+    f0, f1, f2, ftm = tangential_force(h0, h1, h2, -n[0], -n[1], -n[2], -vr0, -vr1, -vr2, vn, law.kt, dt,
+                                       law.mu * fn)
     if si >= 0:
         cgid[i, si] = gid[j]
         stamp[i, si] = step
-        for k in range(3):
-            chist[i, si, k] = ft[k]
+        chist[i, si, 0], chist[i, si, 1], chist[i, si, 2] = f0, f1, f2
     if j_owned:
         sj, _ = _find_slot(cgid, stamp, j, gid[i], step)
         if sj >= 0:
             cgid[j, sj] = gid[i]
             stamp[j, sj] = step
-            for k in range(3):
-                chist[j, sj, k] = ft[k]
+            chist[j, sj, 0], chist[j, sj, 1], chist[j, sj, 2] = f0, f1, f2
     # force on a: repulsion along -n plus the tangential spring
-    fa0 = -fn * n[0] + ft[0]
-    fa1 = -fn * n[1] + ft[1]
-    fa2 = -fn * n[2] + ft[2]
+    fa0 = -fn * n[0] + f0
+    fa1 = -fn * n[1] + f1
+    fa2 = -fn * n[2] + f2
     ma0 = ca * (n[1] * fa2 - n[2] * fa1)
     ma1 = ca * (n[2] * fa0 - n[0] * fa2)
     ma2 = ca * (n[0] * fa1 - n[1] * fa0)
@@ -242,7 +224,4 @@ def _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, gid, cgid, stamp, 
             torque[j, 0] += ma0
             torque[j, 1] += ma1
             torque[j, 2] += ma2
-    e = 0.5 * kn * delta * delta
-    if kt > 0.0:
-        e += 0.5 * ftm * ftm / kt
-    return e if (i_is_a or j_owned) else 0.0
+    return contact_energy(law.kn, law.kt, delta, ftm) if (i_is_a or j_owned) else 0.0

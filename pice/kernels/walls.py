@@ -1,7 +1,8 @@
 """Contact of spheres with fixed rigid walls: infinite planes and triangles, with friction.
 
 geometry (n_walls, 9): plane = (point, unit normal, -); triangle = (v0, v1, v2)
-kinds (n_walls,): 0 plane, 1 triangle.  params (n_walls, 4): kn [N/m], kt [N/m], zeta, mu.
+kinds (n_walls,): PLANE or TRIANGLE.  params (n_walls,): records of the contact law
+(physics.contact.CONTACT_LAW_RECORD: kn [N/m], kt [N/m], zeta, mu), one per wall.
 A plane pushes along its normal on the side the normal points to (a half-space wall); a triangle
 pushes away from its closest point, on both sides.
 """
@@ -12,7 +13,11 @@ import numpy as np
 from numba import njit
 
 from . import JIT
+from .contact_law import contact_energy, normal_force, tangential_force
 from .geometry import closest_point_on_triangle
+
+PLANE = 0     # an infinite plane: geometry = (point, unit normal, -)
+TRIANGLE = 1  # geometry = (v0, v1, v2)
 
 
 @njit(**JIT)
@@ -35,7 +40,7 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
         r = radius[i]
         for wi in range(nw):
             g = geometry[wi]
-            if kinds[wi] == 0:
+            if kinds[wi] == PLANE:
                 dist = (p[0] - g[0]) * g[3] + (p[1] - g[1]) * g[4] + (p[2] - g[2]) * g[5]
                 if dist >= r:
                     hist[i, wi, :] = 0.0
@@ -50,8 +55,8 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
                     continue
                 n[0], n[1], n[2] = d0 / dist, d1 / dist, d2 / dist
             delta = r - dist
-            kn, kt, zeta, mu = params[wi, 0], params[wi, 1], params[wi, 2], params[wi, 3]
-            # velocity of the sphere's contact point
+            law = params[wi]
+            # velocity of the sphere's contact point (the wall is at rest)
             c0 = -r * n[0]
             c1 = -r * n[1]
             c2 = -r * n[2]
@@ -59,21 +64,10 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
             vc1 = v[i, 1] + w[i, 2] * c0 - w[i, 0] * c2
             vc2 = v[i, 2] + w[i, 0] * c1 - w[i, 1] * c0
             vn = vc0 * n[0] + vc1 * n[1] + vc2 * n[2]
-            fn = kn * delta - 2.0 * zeta * math.sqrt(mass[i] * kn) * vn
-            if fn < 0.0:
-                fn = 0.0
+            fn = normal_force(law.kn, law.zeta, mass[i], delta, vn)
             ft = hist[i, wi]
-            dn = ft[0] * n[0] + ft[1] * n[1] + ft[2] * n[2]
-            ft[0] -= dn * n[0] + kt * (vc0 - vn * n[0]) * dt
-            ft[1] -= dn * n[1] + kt * (vc1 - vn * n[1]) * dt
-            ft[2] -= dn * n[2] + kt * (vc2 - vn * n[2]) * dt
-            ftm = math.sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2])
-            if ftm > mu * fn:
-                s = mu * fn / ftm
-                ft[0] *= s
-                ft[1] *= s
-                ft[2] *= s
-                ftm = mu * fn
+            ft[0], ft[1], ft[2], ftm = tangential_force(ft[0], ft[1], ft[2], n[0], n[1], n[2], vc0, vc1, vc2, vn,
+                                                        law.kt, dt, law.mu * fn)
             f0 = fn * n[0] + ft[0]
             f1 = fn * n[1] + ft[1]
             f2 = fn * n[2] + ft[2]
@@ -90,7 +84,5 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
             wall_moment[wi, 0] -= q1 * f2 - q2 * f1
             wall_moment[wi, 1] -= q2 * f0 - q0 * f2
             wall_moment[wi, 2] -= q0 * f1 - q1 * f0
-            energy += 0.5 * kn * delta * delta
-            if kt > 0.0:
-                energy += 0.5 * ftm * ftm / kt
+            energy += contact_energy(law.kn, law.kt, delta, ftm)
     return energy

@@ -1,10 +1,20 @@
-"""Contact parameters: linear spring-dashpot with a damping ratio from the restitution coefficient."""
+"""Parameters of the contact law (kernels/contact_law.py), built once at set-up.
+
+``ContactLaw`` is the record for one kind of contact (ice-ice, one hull); walls carry one record
+per wall in a structured array of ``CONTACT_LAW_RECORD``. Numba reads both by field name.
+"""
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
+
+ContactLaw = namedtuple("ContactLaw", ["kn", "kt", "zeta", "mu"])
+ContactLaw.__doc__ = """Linear spring-dashpot with Coulomb friction: kn, kt [N/m], damping ratio zeta, friction mu."""
+
+CONTACT_LAW_RECORD = np.dtype([("kn", np.float64), ("kt", np.float64), ("zeta", np.float64), ("mu", np.float64)])
 
 
 def damping_ratio_from_restitution(e: float) -> float:
@@ -15,8 +25,23 @@ def damping_ratio_from_restitution(e: float) -> float:
     return -le / math.sqrt(math.pi ** 2 + le * le)
 
 
-def contact_params(job, *, bond_kn: float) -> np.ndarray:
-    """[k_n, k_t, zeta, mu] for ice-ice contact; k_n defaults to the bond's normal spring [N/m]."""
+def contact_law(job, *, kn: float, friction: float) -> ContactLaw:
+    """The job's contact law ([contact]: stiffness ratio, restitution) with normal stiffness kn [N/m]."""
     c = job.contact
-    kn = c.normal_stiffness if c.normal_stiffness is not None else bond_kn
-    return np.array([kn, c.stiffness_ratio * kn, damping_ratio_from_restitution(c.restitution), c.friction])
+    return ContactLaw(kn=float(kn), kt=float(c.stiffness_ratio * kn),
+                      zeta=float(damping_ratio_from_restitution(c.restitution)), mu=float(friction))
+
+
+def ice_contact_law(job, *, bond_kn: float) -> ContactLaw:
+    """The law of ice-ice contact; k_n defaults to the bond's normal spring [N/m]."""
+    c = job.contact
+    return contact_law(job, kn=c.normal_stiffness if c.normal_stiffness is not None else bond_kn,
+                       friction=c.friction)
+
+
+def law_records(laws) -> np.ndarray:
+    """A structured array of CONTACT_LAW_RECORD from a sequence of ContactLaw (one per wall)."""
+    out = np.zeros(len(laws), CONTACT_LAW_RECORD)
+    for k, law in enumerate(laws):
+        out[k] = tuple(law)
+    return out

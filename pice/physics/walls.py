@@ -7,24 +7,23 @@ import pathlib
 import numpy as np
 
 from ..errors import JobError
-from .contact import damping_ratio_from_restitution
-
-PLANE, TRIANGLE = 0, 1
+from ..kernels.walls import PLANE, TRIANGLE
+from .contact import contact_law, law_records
 
 
 def build_walls(job, *, default_kn: float, base_dir: pathlib.Path | None = None):
-    """Arrays for the wall kernel: (kinds, geometry (n,9), params (n,4), names, owner index per wall).
+    """Arrays for the wall kernel: (kinds, geometry (n,9), contact-law records (n,), names, owner index
+    per wall).
 
     A mesh wall expands into one triangle per mesh face; ``owner`` maps each triangle back to its
     [[walls]] entry so forces are reported per entry.
     """
     kinds, geometry, params, owner = [], [], [], []
-    zeta = damping_ratio_from_restitution(job.contact.restitution)
     names = []
     for k, wall in enumerate(job.walls):
         names.append(wall.name or f"wall{k}")
         kn = wall.normal_stiffness if wall.normal_stiffness is not None else default_kn
-        row = [kn, job.contact.stiffness_ratio * kn, zeta, wall.friction]
+        row = contact_law(job, kn=kn, friction=wall.friction)
         if wall.type == "plane":
             n = np.asarray(wall.normal, float)
             geometry.append(np.concatenate([wall.point, n / np.linalg.norm(n), np.zeros(3)]))
@@ -47,8 +46,8 @@ def build_walls(job, *, default_kn: float, base_dir: pathlib.Path | None = None)
             params.append(row)
             owner.append(k)
     if not kinds:
-        return (np.zeros(0, np.int64), np.zeros((0, 9)), np.zeros((0, 4)), names, np.zeros(0, np.int64))
-    return (np.asarray(kinds, np.int64), np.asarray(geometry, float), np.asarray(params, float), names,
+        return (np.zeros(0, np.int64), np.zeros((0, 9)), law_records([]), names, np.zeros(0, np.int64))
+    return (np.asarray(kinds, np.int64), np.asarray(geometry, float), law_records(params), names,
             np.asarray(owner, np.int64))
 
 
