@@ -64,7 +64,7 @@ class Simulation:
         p = self.p
         m0, i0 = float(p.mass.min()), float(p.inertia.min())
         self.bond = bond_params_from_job(job, n_layers=self.sheet.n_layers, spacing=self.sheet.spacing)
-        self.bond_params = self.bond.as_array(mass=m0, inertia=i0)
+        self.bond_law = self.bond.kernel_law(mass=m0, inertia=i0)
         self.contact_law = ice_contact_law(job, bond_kn=self.bond.kn)
         kinds, geom, wparams, names, owner = build_walls(job, default_kn=self.contact_law.kn, base_dir=base_dir)
         self.wall_kinds, self.wall_geometry, self.wall_params = kinds, geom, wparams
@@ -364,7 +364,7 @@ class Simulation:
         p.force[:] = 0.0
         p.torque[:] = 0.0
         nb = bond_forces(p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.bond_j, p.bond_mate, p.bond_gid,
-                         p.bond_L0, p.bond_hist, self.bond_params, self.dt, p.force, p.torque,
+                         p.bond_L0, p.bond_hist, self.bond_law, self.dt, p.force, p.torque,
                          self._events, MAX_EVENTS)
         if nb:
             c.broken += nb
@@ -471,7 +471,7 @@ class Simulation:
             level, rho = self.water[1], self.water[2]
             pb = float(sum(buoyancy_potential(p.x[i, 2], p.radius[i], p.cell_area[i], p.half_height[i],
                                               level, rho, self.gravity) for i in range(n)))
-        eb = bond_energy(n, p.gid, p.bond_gid, p.bond_hist, self.bond_params)
+        eb = bond_energy(n, p.gid, p.bond_gid, p.bond_hist, self.bond_law)
         parts = self.comm.sum(np.array([ke, kr, pg, pb, eb, self.c.contact_energy, self.c.wall_energy]))
         names = ("kinetic_energy", "rotational_energy", "gravity_energy", "buoyancy_energy", "bond_energy",
                  "contact_energy", "wall_energy")

@@ -27,7 +27,7 @@ import pytest
 
 from pice.job import parse_job
 from pice.kernels.bonds import sync_mate_history, bond_forces, bond_update
-from pice.physics.bond import bond_params_from_job, eq6_bond_strength, eq7_bond_friction
+from pice.physics.bond import BondLaw, bond_params_from_job, eq6_bond_strength, eq7_bond_friction
 from pice.simulation import Simulation
 from pice.state import BOND_HIST, MAX_BONDS
 
@@ -192,7 +192,7 @@ def _kernel_params(*, damping=True):
     A, I, J = math.pi * R**2, math.pi * R**4 / 4, math.pi * R**4 / 2
     kn, ks = 2.0e8, 7.0e7
     d = (3.0e4, 1.1e4, 2.0e3, 1.5e3) if damping else (0.0, 0.0, 0.0, 0.0)
-    return np.array([kn, ks, ks / A * J, kn / A * I, A, I, J, R, math.inf, math.inf, 0.3, *d])
+    return BondLaw(kn, ks, ks / A * J, kn / A * I, A, I, J, R, math.inf, math.inf, 0.3, *d)
 
 
 def _random_state(rng):

@@ -7,9 +7,11 @@ is then the current one; ``sync_mate_history`` brings the other copy up to date 
 read (before particles migrate, and before output). A bond to a ghost is evaluated by each rank for
 its own end, each on its own copy.
 
-params (float64 array, see physics.bond.BondParams.as_array):
-    0 kn [N/m]  1 ks [N/m]  2 kt [N m/rad]  3 kb [N m/rad]  4 A [m^2]  5 I [m^4]  6 J [m^4]
-    7 R [m]  8 normal strength [Pa]  9 shear strength [Pa]  10 mu  11-14 dashpots cn, cs, ct, cb
+law: the bond's parameters by name (physics.bond.BondLaw): springs kn, ks [N/m], kt, kb [N m/rad];
+disk area, inertia, polar [m^2, m^4, m^4] and disk_radius [m]; normal_strength, shear_strength [Pa],
+friction (mu of Eq. 5); dashpots cn, cs [N s/m], ct, cb [N m s/rad].
+
+Failure modes are the named constants below; ``failure_mode`` is the one place that decides.
 """
 
 import math
@@ -17,6 +19,22 @@ import math
 from numba import njit
 
 from . import JIT
+
+INTACT = 0
+TENSION_BENDING = 1  # Eq. 3: tension plus bending reaches the normal strength
+SHEAR_TWIST = 2      # Eqs. 4-5: shear plus twist reaches the Mohr-Coulomb shear strength
+FAILURE_MODES = {TENSION_BENDING: "tension + bending", SHEAR_TWIST: "shear + twist"}
+
+
+@njit(**JIT, inline="always")
+def failure_mode(sigma, tau, law):
+    """The bond's failure mode from its largest normal stress sigma (tension > 0) and shear stress tau
+    [Pa] (Eqs. 3-5 of Zhu & Ji 2022): TENSION_BENDING, SHEAR_TWIST or INTACT."""
+    if sigma >= law.normal_strength:
+        return TENSION_BENDING
+    if tau >= law.friction * sigma + law.shear_strength:     # Eq. 5 as printed
+        return SHEAR_TWIST
+    return INTACT
 
 
 @njit(**JIT, inline="always")
@@ -36,7 +54,7 @@ def _project_keep_magnitude(h, i, s, o, n0, n1, n2):
 
 
 @njit(**JIT)
-def bond_update(a, b, x, v, w, radius, L0, hist, params, dt, out_force, out_moment_a, out_moment_b):
+def bond_update(a, b, x, v, w, radius, L0, hist, law, dt, out_force, out_moment_a, out_moment_b):
     """Advance one bond's history by one step and return its failure state.
 
     Args:
@@ -46,10 +64,10 @@ def bond_update(a, b, x, v, w, radius, L0, hist, params, dt, out_force, out_mome
         out_moment_a, out_moment_b: (3,) moments on each end [N m], written.
 
     Returns:
-        0 intact, 1 broken in tension/bending (Eq. 3), 2 broken in shear/twist (Eqs. 4-5).
+        The failure mode: INTACT, TENSION_BENDING (Eq. 3) or SHEAR_TWIST (Eqs. 4-5).
     """
     h3 = hist.reshape((1, 1, hist.shape[0]))
-    r = _bond_core(a, b, x, v, w, radius, L0, h3, 0, 0, params, dt)
+    r = _bond_core(a, b, x, v, w, radius, L0, h3, 0, 0, law, dt)
     # r mixes an int and floats: numba can index such a tuple with constants only
     out_force[0], out_force[1], out_force[2] = r[1], r[2], r[3]
     out_moment_a[0], out_moment_a[1], out_moment_a[2] = r[4], r[5], r[6]
@@ -58,10 +76,10 @@ def bond_update(a, b, x, v, w, radius, L0, hist, params, dt, out_force, out_mome
 
 
 @njit(**JIT, inline="always")
-def _bond_core(a, b, x, v, w, radius, L0, H, i, s, params, dt):
+def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
     """bond_update on H[i, s, :], returning (mode, force on a (3), moment on a (3), moment on b (3))."""
-    kn, ks, kt, kb = params[0], params[1], params[2], params[3]
-    A, I, J, R = params[4], params[5], params[6], params[7]
+    kn, ks, kt, kb = law.kn, law.ks, law.kt, law.kb
+    A, I, J, R = law.area, law.inertia, law.polar, law.disk_radius
     dx0 = x[b, 0] - x[a, 0]
     dx1 = x[b, 1] - x[a, 1]
     dx2 = x[b, 2] - x[a, 2]
@@ -97,11 +115,10 @@ def _bond_core(a, b, x, v, w, radius, L0, H, i, s, params, dt):
     mb_mag = math.sqrt(mb0 * mb0 + mb1 * mb1 + mb2 * mb2)
     sigma = tension / A + mb_mag * R / I          # Eq. 3, tension positive [Pa]
     tau = fs_mag / A + abs(mt) * R / J            # Eq. 4 [Pa]
-    if sigma >= params[8]:
-        return (1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    if tau >= params[10] * sigma + params[9]:     # Eq. 5
-        return (2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    cn, cs, ct, cbd = params[11], params[12], params[13], params[14]
+    mode = failure_mode(sigma, tau, law)
+    if mode != INTACT:
+        return (mode, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    cn, cs, ct, cbd = law.cn, law.cs, law.ct, law.cb
     fn = tension + cn * vn
     fa0 = fn * n0 + fs0 + cs * vs0
     fa1 = fn * n1 + fs1 + cs * vs1
@@ -120,7 +137,7 @@ def _bond_core(a, b, x, v, w, radius, L0, H, i, s, params, dt):
 
 @njit(**JIT)
 def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0, bond_hist,
-                params, dt, force, torque, events, max_events):
+                law, dt, force, torque, events, max_events):
     """Add the forces of every intact bond touching an owned particle; break failed bonds.
 
     Args:
@@ -142,8 +159,8 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
             i_is_a = gid[i] < gid[j]
             a = i if i_is_a else j
             b = j if i_is_a else i
-            r = _bond_core(a, b, x, v, w, radius, bond_L0[i, s], bond_hist, i, s, params, dt)
-            if r[0] != 0:
+            r = _bond_core(a, b, x, v, w, radius, bond_L0[i, s], bond_hist, i, s, law, dt)
+            if r[0] != INTACT:
                 bond_j[i, s] = -1
                 bond_gid[i, s] = -1
                 if j_owned:
@@ -182,9 +199,9 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
 
 
 @njit(**JIT)
-def bond_energy(nlocal, gid, bond_gid, bond_hist, params):
+def bond_energy(nlocal, gid, bond_gid, bond_hist, law):
     """Elastic energy [J] stored in intact bonds with an owned lower-gid end (each bond counted once)."""
-    kn, ks, kt, kb = params[0], params[1], params[2], params[3]
+    kn, ks, kt, kb = law.kn, law.ks, law.kt, law.kb
     e = 0.0
     for i in range(nlocal):
         for s in range(bond_gid.shape[1]):

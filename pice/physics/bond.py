@@ -18,9 +18,8 @@ calibrated so that the hexagonal lattice bends exactly as a plate of thickness t
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from dataclasses import dataclass
-
-import numpy as np
 
 from ..errors import JobError
 
@@ -52,9 +51,11 @@ def single_layer_bending_springs(*, youngs_modulus: float, poissons_ratio: float
     return k_b, k_t
 
 
-def single_layer_flexural_rigidity(*, k_b: float, k_t: float) -> tuple[float, float]:
-    """Plate rigidity D [N m] and Poisson's ratio of a single-layer hexagonal sheet with springs k_b, k_t."""
-    return math.sqrt(3.0) / 4.0 * (3.0 * k_b + k_t), (k_b - k_t) / (3.0 * k_b + k_t)
+BondLaw = namedtuple("BondLaw", ["kn", "ks", "kt", "kb", "area", "inertia", "polar", "disk_radius",
+                                 "normal_strength", "shear_strength", "friction", "cn", "cs", "ct", "cb"])
+BondLaw.__doc__ = """The parallel bond's parameters as the kernel reads them (kernels/bonds.py), by name:
+springs kn, ks [N/m], kt, kb [N m/rad]; disk area [m^2], inertia, polar [m^4], disk_radius [m];
+normal_strength, shear_strength [Pa] and friction of Eqs. 3-5; dashpots cn, cs [N s/m], ct, cb [N m s/rad]."""
 
 
 @dataclass(frozen=True)
@@ -74,17 +75,18 @@ class BondParams:
     friction: float         # mu of Eq. 5
     damping_ratio: float
 
-    def as_array(self, *, mass: float, inertia: float) -> np.ndarray:
-        """Flat float64 array for the kernel, with dashpots at ``damping_ratio`` of critical."""
+    def kernel_law(self, *, mass: float, inertia: float) -> BondLaw:
+        """The kernel's record (BondLaw), with dashpots at ``damping_ratio`` of critical for a pair of
+        elements of ``mass`` [kg] and ``inertia`` [kg m^2]."""
         z = self.damping_ratio
         m_red, i_red = 0.5 * mass, 0.5 * inertia
         cn = 2 * z * math.sqrt(m_red * self.kn)
         cs = 2 * z * math.sqrt(m_red * self.ks)
         ct = 2 * z * math.sqrt(i_red * self.kt)
         cb = 2 * z * math.sqrt(i_red * self.kb)
-        return np.array([self.kn, self.ks, self.kt, self.kb, self.area, self.inertia, self.polar,
-                         self.disk_radius, self.normal_strength, self.shear_strength, self.friction,
-                         cn, cs, ct, cb], dtype=np.float64)
+        return BondLaw(kn=self.kn, ks=self.ks, kt=self.kt, kb=self.kb, area=self.area, inertia=self.inertia,
+                       polar=self.polar, disk_radius=self.disk_radius, normal_strength=self.normal_strength,
+                       shear_strength=self.shear_strength, friction=self.friction, cn=cn, cs=cs, ct=ct, cb=cb)
 
 
 def bond_params_from_job(job, *, n_layers: int, spacing: float) -> BondParams:
