@@ -3,13 +3,13 @@
 Every case takes a small valid job (``BASE``), breaks one thing, runs it through the real command line
 in-process (``pice run JOB -o OUT``) and checks the error line. The rules come from
 
-* the schema in pice/job.py (types, bounds, unknown keys, rules between keys), checked before anything
+* the schema in pice/job/ (types, bounds, unknown keys, rules between keys), checked before anything
   is allocated or written ("validation" cases, marked ``nojit``: they never reach a numba kernel);
 * set-up, before the run file is created ("setup" cases): the stable time step
   (pice/physics/timestep.py), the bond calibration (pice/physics/bond.py), the walls
   (pice/physics/walls.py) and the load/fix regions (pice/simulation.py).
 
-Exit statuses are those of pice/errors.py and pice/io/run_file.py: JobError 2, OutputError 4.
+Exit statuses are those of pice/errors.py and pice/io/errors.py: JobError 2, OutputError 4.
 """
 
 from __future__ import annotations
@@ -75,7 +75,7 @@ class Case:
     toml: str | None  # None: the job file does not exist
     expect: list  # one entry per error line: a list of substrings / compiled regexes the line must contain
     files: dict = dataclasses.field(default_factory=dict)  # extra input files next to the job
-    setup: bool = False  # fails during set-up (after validation), not in pice/job.py
+    setup: bool = False  # fails during set-up (after validation), not in pice/job/
 
 
 def case(id, toml, *expect, files=None, setup=False, lines=None):
@@ -131,7 +131,7 @@ CASES = [
          "ice = [{...}]: must be a table: write [ice], not [[ice]]"),
     case("missing_ice_section", BASE[:BASE.index("[ice]")] + BASE[BASE.index("[bond]"):],
          "ice = (absent): missing: the [ice] table is required"),
-    # --- non-positive physical quantities (bounds in pice/job.py, unit printed)
+    # --- non-positive physical quantities (bounds in pice/job/schema.py, unit printed)
     case("thickness_negative", sub("thickness = 1.0", "thickness = -1.0"),
          "ice.thickness = -1.0: must be > 0 m"),
     case("density_zero", sub("density = 920.0", "density = 0.0"),
@@ -183,7 +183,7 @@ CASES = [
          re.compile(r"use dt <= " + NUMBER_S), setup=True),
     case("dt_not_below_duration", add("run", "dt = 0.01"),
          "run.dt = 0.01: must be < run.duration = 0.01 s"),
-    # --- walls (pice/job.py WallSpec; pice/physics/walls.py reads mesh files)
+    # --- walls (pice/job/schema.py WallSpec; pice/physics/walls.py reads mesh files)
     case("plane_wall_without_normal", BASE + PLANE,
          "walls[0].normal = (absent): missing: a plane wall needs normal = [nx, ny, nz]"),
     case("plane_wall_zero_normal", BASE + PLANE + "normal = [0.0, 0.0, 0.0]\n",
@@ -212,7 +212,7 @@ CASES = [
          "loads[0].region = {xmin = 100.0}: selects no element", "x 0.5 .. 3.5", setup=True),
     case("fix_velocity_word", BASE + '[[fixes]]\nvelocity = [0.0, "fixed", "free"]\n[fixes.region]\nxmax = 1.0\n',
          "fixes[0].velocity[1] = 'fixed': must be a number (m/s) or 'free'"),
-    # --- bodies and moorings (pice/job_platform.py, pice/scenes/platform.py)
+    # --- bodies and moorings (pice/job/platform.py; set-up in pice/platform/)
     case("body_without_water", BASE + BODY, "bodies[0] = 'barge': a floating body needs a [water] table"),
     case("box_hull_without_size", BASE + WATER + BODY.replace('hull = {type = "box", size = [10.0, 8.0, 4.0]}',
                                                              'hull = {type = "box"}'),

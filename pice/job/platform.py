@@ -1,31 +1,32 @@
 """[[bodies]] and [[moorings]]: the floating structures of a job and their mooring lines.
 
-A body is a 6-degree-of-freedom rigid hull (physics/body.py) owned by rank 0; its hull is built
-from parameters or read from a mesh file. A [[moorings]] entry is a spread of lines attached to one
-body, either DEM lines (physics/mooring.py) or the quasi-static elastic catenary
-(physics/catenary.py), each anchor placed by the layout solve for the given pretension.
+A body is a 6-degree-of-freedom rigid hull (pice/platform/rigid_body.py) owned by rank 0; its hull is
+built from parameters or read from a mesh file. A [[moorings]] entry is a spread of lines attached to
+one body, either DEM lines (pice/platform/mooring_lines.py) or the quasi-static elastic catenary
+(pice/platform/quasi_static.py), each anchor placed by the layout solve for the given pretension.
+These are the schema only; pice/platform/ builds and steps them.
 """
 
 from __future__ import annotations
 
-import math
 from typing import Literal, Optional, Union
 
 from pydantic import Field, StrictBool, model_validator
 
-from .job_types import Vec2, Vec3, _count, _q, _Real, _Section, _vec
+from .types import Real, Section, Vec2, Vec3, count, quantity, vector
 
-Vec6 = tuple[_Real, _Real, _Real, _Real, _Real, _Real]
-Row7 = tuple[_Real, _Real, _Real, _Real, _Real, _Real, _Real]
+Vec6 = tuple[Real, Real, Real, Real, Real, Real]
+Row7 = tuple[Real, Real, Real, Real, Real, Real, Real]
+Moment = quantity("kg m^2")  # a principal moment of inertia, > 0
 
 
-class HullSpec(_Section):
+class HullSpec(Section):
     """[bodies.hull]: the hull surface in the body frame (origin at the centre of gravity)."""
 
     type: Literal["semi_submersible", "box", "mesh"]
-    size: Optional[_vec(Vec3, "m")] = None       # box: length, width, height
-    centre: _vec(Vec3, "m") = (0.0, 0.0, 0.0)      # box: centre in the body frame
-    file: Optional[str] = None                     # mesh: meshio-readable closed triangle mesh
+    size: Optional[vector(Vec3, "m")] = None        # box: length, width, height
+    centre: vector(Vec3, "m") = (0.0, 0.0, 0.0)     # box: centre in the body frame
+    file: Optional[str] = None                      # mesh: meshio-readable closed triangle mesh
 
     @model_validator(mode="after")
     def _geometry(self):
@@ -39,22 +40,22 @@ class HullSpec(_Section):
         return self
 
 
-class BodySpec(_Section):
+class BodySpec(Section):
     """[[bodies]]: a rigid floating body (6 DOF, attitude as a unit quaternion)."""
 
     name: str
     hull: HullSpec
-    mass: Union[Literal["balance"], _q("kg")]  # "balance": the mass that floats at `position`
-    inertia: _vec(tuple[_q("kg m^2"), _q("kg m^2"), _q("kg m^2")], "kg m^2")  # roll, pitch, yaw about the CG
-    position: _vec(Vec3, "m")                      # centre of gravity at t = 0
-    heading: _q("deg", gt=None) = 0.0              # yaw at t = 0
-    added_mass: _vec(Vec6, "kg, kg m^2") = (0.0,) * 6     # diagonal, body frame
-    damping: _vec(Vec6, "N s^2/m^2, N m s^2") = (0.0,) * 6  # quadratic B of F = -B |u| u, body frame
-    current_drag: _vec(Vec2, "N s^2/m^2") = (0.0, 0.0)   # 1/2 rho C_d A along x and y
+    mass: Union[Literal["balance"], quantity("kg")]             # "balance": the mass that floats at `position`
+    inertia: vector(tuple[Moment, Moment, Moment], "kg m^2")     # roll, pitch, yaw about the CG
+    position: vector(Vec3, "m")                                  # centre of gravity at t = 0
+    heading: quantity("deg", gt=None) = 0.0                      # yaw at t = 0
+    added_mass: vector(Vec6, "kg, kg m^2") = (0.0,) * 6          # diagonal, body frame
+    damping: vector(Vec6, "N s^2/m^2, N m s^2") = (0.0,) * 6     # quadratic B of F = -B |u| u, body frame
+    current_drag: vector(Vec2, "N s^2/m^2") = (0.0, 0.0)         # 1/2 rho C_d A along x and y
     motion: Literal["free", "prescribed"] = "free"
-    velocity: tuple[Row7, ...] = ()                # prescribed: rows (t, vx, vy, vz, wx, wy, wz)
-    friction: _q("", gt=None, ge=0.0) = 0.15       # ice-hull Coulomb friction
-    normal_stiffness: Optional[_q("N/m")] = None   # ice-hull contact spring (default: contact's)
+    velocity: tuple[Row7, ...] = ()                              # prescribed: rows (t, vx, vy, vz, wx, wy, wz)
+    friction: quantity("", gt=None, ge=0.0) = 0.15               # ice-hull Coulomb friction
+    normal_stiffness: Optional[quantity("N/m")] = None           # ice-hull contact spring (default: contact's)
 
     @model_validator(mode="after")
     def _motion(self):
@@ -69,36 +70,36 @@ class BodySpec(_Section):
         return self
 
 
-class SegmentSpec(_Section):
+class SegmentSpec(Section):
     """[[moorings.segments]]: one homogeneous part of every line of the entry, anchor first."""
 
-    length: _q("m")
-    ea: _q("N")
-    diameter: _q("m")
-    wet_weight: _q("N/m")
-    dry_mass: Optional[_q("kg/m")] = None      # default: steel, from the wet weight
-    drag_normal: _q("", gt=None, ge=0.0) = 1.2
-    drag_tangential: _q("", gt=None, ge=0.0) = 0.008
-    added_mass: _q("", gt=None, ge=0.0) = 1.0
+    length: quantity("m")
+    ea: quantity("N")
+    diameter: quantity("m")
+    wet_weight: quantity("N/m")
+    dry_mass: Optional[quantity("kg/m")] = None  # default: steel, from the wet weight
+    drag_normal: quantity("", gt=None, ge=0.0) = 1.2
+    drag_tangential: quantity("", gt=None, ge=0.0) = 0.008
+    added_mass: quantity("", gt=None, ge=0.0) = 1.0
 
 
-class MooringSpec(_Section):
+class MooringSpec(Section):
     """[[moorings]]: a spread of lines from fairleads on one body to anchors placed by the layout solve."""
 
     body: str
     model: Literal["dem", "quasi_static"] = "dem"
-    fairleads: tuple[_vec(Vec3, "m"), ...] = Field(min_length=1)  # space frame at t = 0
-    headings: tuple[_Real, ...] = Field(min_length=1)             # outward heading of each fairlead [deg]
-    lines_per_fairlead: _count(1) = 1
-    spread: _q("deg", gt=None, ge=0.0) = 5.0                      # between the lines of one fairlead
-    anchor_depth: _q("m")                                         # anchor below its fairlead
-    pretension: _q("N")                                           # fairlead tension at rest
+    fairleads: tuple[vector(Vec3, "m"), ...] = Field(min_length=1)  # space frame at t = 0
+    headings: tuple[Real, ...] = Field(min_length=1)                # outward heading of each fairlead [deg]
+    lines_per_fairlead: count(1) = 1
+    spread: quantity("deg", gt=None, ge=0.0) = 5.0                  # between the lines of one fairlead
+    anchor_depth: quantity("m")                                     # anchor below its fairlead
+    pretension: quantity("N")                                       # fairlead tension at rest
     segments: tuple[SegmentSpec, ...] = Field(min_length=1)
-    element_length: _q("m") = 10.0                                # DEM: longest element
-    bond_damping: _q("", gt=None, ge=0.0, le=1.0) = 0.3           # DEM: axial dashpot, fraction of critical
-    seabed_stiffness: _q("N/m^2") = 1.0e5                         # DEM: per metre of line
-    seabed_friction: _q("", gt=None, ge=0.0) = 0.5
-    relax: StrictBool = True                                            # DEM: settle the lines before t = 0
+    element_length: quantity("m") = 10.0                            # DEM: longest element
+    bond_damping: quantity("", gt=None, ge=0.0, le=1.0) = 0.3       # DEM: axial dashpot, fraction of critical
+    seabed_stiffness: quantity("N/m^2") = 1.0e5                     # DEM: per metre of line
+    seabed_friction: quantity("", gt=None, ge=0.0) = 0.5
+    relax: StrictBool = True                                        # DEM: settle the lines before t = 0
 
     @model_validator(mode="after")
     def _layout(self):
@@ -141,8 +142,3 @@ def check_platform(job, bad) -> None:
         if job.gravity == 0.0:
             bad(("moorings", k), m.body, "mooring lines need gravity > 0 (their catenary)")
 
-
-def heading_quaternion(deg: float) -> tuple[float, float, float, float]:
-    """Unit quaternion (w, x, y, z) of a yaw of ``deg`` degrees about +z."""
-    a = math.radians(deg)
-    return (math.cos(a / 2), 0.0, 0.0, math.sin(a / 2))

@@ -1,0 +1,248 @@
+"""The job schema: one frozen pydantic model per TOML table, and ``Job``, the whole scene.
+
+A table that is absent switches its physics off. Bounds and units sit on the fields (pice.job.types);
+rules between keys are checked in ``Job`` (and, for bodies and moorings, in pice.job.platform),
+each broken rule reported as its own line (pice.job.messages).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal, Optional, Union
+
+from pydantic import Field, StrictBool, model_validator
+
+from .messages import Located
+from .platform import BodySpec, MooringSpec, check_platform
+from .types import Bound, Real, Section, Vec2, Vec3, count, quantity, vector
+
+EQ7_SLOPE, EQ7_OFFSET = 0.23, 0.5  # Eq. 7 of Zhu & Ji (2022): mu = 0.23 sc/sf - 0.5 (as in physics/bond.py)
+
+
+class RunSpec(Section):
+    """[run]: duration, time step and output schedule."""
+
+    name: str = "run"
+    duration: quantity("s") = 1.0
+    dt: Union[Literal["auto"], quantity("s")] = "auto"
+    dt_safety: quantity("", gt=0.0, le=1.0) = 0.5
+    allow_unstable_dt: StrictBool = False
+    output: str = ""
+    series_every: count(1) = 100
+    snapshots: count(0) = 5
+    check_every: count(1) = 10
+    stop_at_first_break: StrictBool = False
+    checkpoint_every: quantity("s", gt=None, ge=0.0) = 0.0  # simulated seconds between checkpoints; 0 = off
+    checkpoint: str = ""  # checkpoint file (default: beside the run file, <run>.ckpt.h5)
+
+
+class WaterSpec(Section):
+    """[water]: still water with a uniform current."""
+
+    density: quantity("kg/m^3") = 1025.0
+    level: quantity("m", gt=None) = 0.0
+    current: vector(Vec2, "m/s") = (0.0, 0.0)
+    drag_coefficient: quantity("", gt=None, ge=0.0) = 1.0
+    heave_damping_ratio: quantity("", gt=None, ge=0.0, lt=1.0) = 0.0
+    depth: Optional[quantity("m")] = None  # still-water depth to the flat seabed (mooring lines need it)
+
+
+class PushSpec(Section):
+    """[ice.push]: the rear edge of the sheet driven at a constant speed along +x: rigidly (its
+    velocity prescribed), or through springs of ``stiffness`` per element to anchors moving at
+    ``speed`` (a spring boundary standing for the far-field ice)."""
+
+    speed: quantity("m/s", gt=None) = 0.05
+    rows: count(1) = 1
+    stiffness: Optional[quantity("N/m")] = None
+    damping_ratio: quantity("", gt=None, ge=0.0, le=1.0) = 1.0
+
+
+class IceSpec(Section):
+    """[ice]: a bonded level-ice sheet in hexagonal close packing."""
+
+    density: quantity("kg/m^3") = 920.0
+    thickness: quantity("m") = 1.0
+    element_diameter: quantity("m") = 1.0
+    length: quantity("m") = 20.0
+    width: quantity("m") = 10.0
+    origin: vector(Vec2, "m") = (0.0, 0.0)
+    velocity: vector(Vec2, "m/s") = (0.0, 0.0)
+    element_volume: Literal["sphere", "cell"] = "sphere"
+    youngs_modulus: Optional[quantity("Pa")] = None
+    poissons_ratio: quantity("", gt=None, ge=0.0, lt=0.5) = 0.3
+    flexural_strength: Optional[quantity("Pa")] = None
+    compressive_strength: Optional[quantity("Pa")] = None
+    push: Optional[PushSpec] = None
+
+
+class BondSpec(Section):
+    """[bond]: parallel bond (Eqs. 1-5 of Zhu & Ji 2022). Stiffness in N/m, or from ice.youngs_modulus."""
+
+    normal_stiffness: Optional[quantity("N/m")] = None
+    shear_stiffness: Optional[quantity("N/m")] = None
+    radius_ratio: quantity("", le=1.0) = 1.0
+    normal_strength: Optional[quantity("Pa")] = None
+    shear_strength: Optional[quantity("Pa")] = None
+    friction: Optional[quantity("", gt=None, ge=0.0)] = None
+    damping_ratio: quantity("", gt=None, ge=0.0, le=1.0) = 0.0
+    breakable: StrictBool = True
+
+
+class ContactSpec(Section):
+    """[contact]: linear spring-dashpot normal force, tangential spring with Coulomb friction."""
+
+    normal_stiffness: Optional[quantity("N/m")] = None
+    stiffness_ratio: quantity("", le=1.0) = 0.5
+    restitution: quantity("", le=1.0) = 0.3
+    friction: quantity("", gt=None, ge=0.0) = 0.15
+
+
+class WallSpec(Section):
+    """[[walls]]: a fixed rigid plane, triangle or triangle mesh file (meshio-readable)."""
+
+    name: str = ""
+    type: Literal["plane", "triangle", "mesh"]
+    point: Optional[vector(Vec3, "m")] = None
+    normal: Optional[Vec3] = None
+    vertices: Optional[vector(tuple[Vec3, Vec3, Vec3], "m")] = None
+    file: Optional[str] = None
+    friction: quantity("", gt=None, ge=0.0) = 0.1
+    normal_stiffness: Optional[quantity("N/m")] = None
+
+    @model_validator(mode="after")
+    def _geometry(self):
+        need = {"plane": ("point", "normal"), "triangle": ("vertices",), "mesh": ("file",)}[self.type]
+        for key in need:
+            if getattr(self, key) is None:
+                raise ValueError(f"{key}: missing: a {self.type} wall needs {key} = {_WALL_KEY_HINTS[key]}")
+        if self.type == "plane" and math.hypot(*self.normal) == 0.0:
+            raise ValueError("normal: must be a non-zero vector [nx, ny, nz] (any length; it is normalised)")
+        if self.type == "triangle":
+            a, b, c = (tuple(map(float, v)) for v in self.vertices)
+            ab = [b[i] - a[i] for i in range(3)]
+            ac = [c[i] - a[i] for i in range(3)]
+            cross = (ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0])
+            longest2 = max(sum(x * x for x in e) for e in (ab, ac, [c[i] - b[i] for i in range(3)]))
+            if math.hypot(*cross) <= 1e-12 * longest2:
+                raise ValueError("vertices: degenerate triangle (zero area): the three vertices [m] must not "
+                                 "coincide or lie on one line")
+        return self
+
+
+_WALL_KEY_HINTS = {"point": "[x, y, z] (a point on the plane, m)",
+                   "normal": "[nx, ny, nz] (pointing towards the ice)",
+                   "vertices": "[[x, y, z], [x, y, z], [x, y, z]] (m)",
+                   "file": "\"path/to/mesh.stl\" (relative to the job file's folder)"}
+
+
+class Region(Section):
+    """An axis-aligned box selecting elements by their initial centre [m]; open sides default to infinity."""
+
+    xmin: Bound = -math.inf
+    xmax: Bound = math.inf
+    ymin: Bound = -math.inf
+    ymax: Bound = math.inf
+    zmin: Bound = -math.inf
+    zmax: Bound = math.inf
+
+
+class LoadSpec(Section):
+    """[[loads]]: a constant total force [N] shared evenly by the elements in a region."""
+
+    force: vector(Vec3, "N")
+    region: Region
+
+
+FixComponent = Union[Real, Literal["free"]]  # a prescribed velocity component [m/s], or "free"
+
+
+class FixSpec(Section):
+    """[[fixes]]: prescribed velocity components [m/s] for the elements in a region ("free" leaves one free)."""
+
+    velocity: vector(tuple[FixComponent, FixComponent, FixComponent], "m/s")
+    region: Region
+
+
+class ParallelSpec(Section):
+    """[parallel]: decomposition and load balance (ignored on one rank)."""
+
+    skin: quantity("m") = 0.3
+    balance_every: Annotated[int, Field(ge=0)] = 500
+    imbalance_threshold: quantity("", gt=1.0) = 1.05
+    domain: Optional[tuple[Vec2, Vec2]] = None
+
+
+class Job(Section):
+    """A validated scene. Sections that are absent switch their physics off."""
+
+    run: RunSpec = RunSpec()
+    gravity: quantity("m/s^2", gt=None, ge=0.0) = 9.81
+    water: Optional[WaterSpec] = None
+    ice: IceSpec
+    bond: BondSpec = BondSpec()
+    contact: ContactSpec = ContactSpec()
+    walls: tuple[WallSpec, ...] = ()
+    loads: tuple[LoadSpec, ...] = ()
+    fixes: tuple[FixSpec, ...] = ()
+    bodies: tuple[BodySpec, ...] = ()
+    moorings: tuple[MooringSpec, ...] = ()
+    parallel: ParallelSpec = ParallelSpec()
+    source: str = Field(default="", exclude=True)  # the job file's path, as error lines name it
+    text: str = Field(default="", exclude=True)    # the job file's text, as the run file keeps it
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        """Rules between keys; every broken rule is reported (one line each)."""
+        ice, bond, run = self.ice, self.bond, self.run
+        problems: list[Located] = []
+
+        def bad(loc, value, msg):
+            problems.append(Located(loc, value, msg))
+
+        # the HCP sheet needs at least one element across each dimension (scenes/level_ice.py)
+        if ice.thickness < ice.element_diameter * (1 - 1e-9) and ice.element_volume != "cell":
+            bad(("ice", "thickness"), ice.thickness,
+                f"must be >= ice.element_diameter = {ice.element_diameter} m (one layer of elements), or set "
+                "ice.element_volume = \"cell\" (elements stand for plate cells of the thickness)")
+        for key in ("length", "width"):
+            if getattr(ice, key) < ice.element_diameter:
+                bad(("ice", key), getattr(ice, key), f"must be >= ice.element_diameter = {ice.element_diameter} m "
+                    "(one element across)")
+        # bond stiffness: given directly or calibrated from E (physics/bond.py)
+        has_k = bond.normal_stiffness is not None
+        if has_k and ice.youngs_modulus is not None:
+            bad(("bond", "normal_stiffness"), bond.normal_stiffness,
+                f"give either bond.normal_stiffness [N/m] or ice.youngs_modulus [Pa] (= {ice.youngs_modulus}), "
+                "not both")
+        if not has_k and ice.youngs_modulus is None:
+            bad(("bond", "normal_stiffness"), None,
+                "missing: give bond.normal_stiffness [N/m] or ice.youngs_modulus [Pa]")
+        # bond strength: given directly or from the flexural strength by Eq. 6 of Zhu & Ji (2022)
+        if bond.breakable and bond.normal_strength is None and ice.flexural_strength is None:
+            bad(("bond", "normal_strength"), None,
+                "missing: give bond.normal_strength [Pa] or ice.flexural_strength [Pa] "
+                "(or set bond.breakable = false)")
+        # bond friction mu = 0.23 sc/sf - 0.5 (Eq. 7 of Zhu & Ji 2022) unless bond.friction is given
+        if bond.friction is None and ice.compressive_strength is None and ice.flexural_strength is not None \
+                and bond.normal_strength is None and bond.breakable:
+            bad(("ice", "compressive_strength"), None,
+                "missing: Eq. 7 needs ice.compressive_strength [Pa] for the bond friction (or give bond.friction)")
+        if bond.breakable and bond.friction is None and ice.compressive_strength is not None \
+                and ice.flexural_strength is not None:
+            mu = EQ7_SLOPE * ice.compressive_strength / ice.flexural_strength - EQ7_OFFSET
+            if mu < 0:
+                bad(("ice", "compressive_strength"), ice.compressive_strength,
+                    f"must be >= {EQ7_OFFSET / EQ7_SLOPE:.4g} x ice.flexural_strength = "
+                    f"{EQ7_OFFSET / EQ7_SLOPE * ice.flexural_strength:.4g} Pa, else Eq. 7 gives a negative bond "
+                    f"friction (0.23 sc/sf - 0.5 = {mu:.3g}); or give bond.friction")
+        # a floating sheet (scenes/level_ice.py floats it at its rest height)
+        if self.water is not None and self.gravity > 0 and ice.density >= self.water.density:
+            bad(("ice", "density"), ice.density,
+                f"must be < water.density = {self.water.density} kg/m^3, else the ice sinks")
+        if run.dt != "auto" and run.dt >= run.duration:
+            bad(("run", "dt"), run.dt, f"must be < run.duration = {run.duration} s")
+        check_platform(self, bad)
+        if problems:
+            raise Located.group(problems)
+        return self
