@@ -15,21 +15,21 @@ from time import perf_counter
 
 import numpy as np
 
-from . import bodies
 from .errors import InstabilityError
 from .kernels.bonds import bond_energy, bond_forces, sync_mate_history
 from .kernels.contacts import contact_forces
 from .kernels.boundary import spring_boundary
-from .kernels.hull_contact import hull_forces
 from .kernels.hydro import buoyancy_potential
 from .kernels.integrate import drift, kick, max_step_displacement
 from .kernels.walls import wall_forces
-from .kernels.hydro import hydro_forces
+from .kernels.hydro import gravity_forces, hydro_forces
 from .physics.bond import bond_params_from_job
 from .physics.contact import ice_contact_law
-from .physics.hydro import heave_damping, water_array
+from .physics.hydro import heave_damping, water_from_job
 from .physics.timestep import choose_step, stable_step
 from .physics.walls import build_walls
+from .platform import output as platform_output
+from .platform.hull_contact import hull_forces
 from .scenes.level_ice import build_level_ice
 
 log = logging.getLogger("pice")
@@ -71,7 +71,7 @@ class Simulation:
         self.wall_names, self.wall_owner = names, owner
         self.wall_force = np.zeros((len(kinds), 3))
         self.wall_moment = np.zeros((len(kinds), 3))
-        self.water = water_array(job)
+        self.water = water_from_job(job)
         from .parallel.coupling import BodyCoupling
 
         self._set_up_bodies(base_dir)
@@ -79,7 +79,7 @@ class Simulation:
         self.coupling = BodyCoupling(self.comm, len(job.walls) + len(self.hulls))
         self.wall_total = None
         self.body_total = None
-        self.peaks = bodies.Peaks()  # rank 0: load extremes since the last series row
+        self.peaks = platform_output.Peaks()  # rank 0: load extremes since the last series row
         self.gravity = job.gravity
         p.allocate_dynamic(len(kinds), len(self.hulls))
         p.heave_damping = heave_damping(job, p)
@@ -159,12 +159,12 @@ class Simulation:
         self.poses = np.zeros((0, 13))
         if not self.job.bodies:
             return
-        from .scenes.platform import build_platform, hulls_from_job
+        from .platform.build import build_platform, hulls_from_job, initial_poses, refuse_initial_overlap
 
         self.hulls = hulls_from_job(self.job, default_kn=self.contact_law.kn,
                                     reach=float(self.p.radius.max()), base_dir=base_dir)
-        self.poses = bodies.initial_poses(self.job)
-        bodies.refuse_initial_overlap(self.job, self.p, self.hulls, self.poses)
+        self.poses = initial_poses(self.job)
+        refuse_initial_overlap(self.job, self.p, self.hulls, self.poses)
         error = None
         if self.comm.rank == 0:
             try:
@@ -379,8 +379,11 @@ class Simulation:
             c.wall_energy = wall_forces(p.nlocal, p.x, p.v, p.w, p.radius, p.mass, self.wall_kinds,
                                         self.wall_geometry, self.wall_params, p.wall_hist, self.dt,
                                         p.force, p.torque, self.wall_force, self.wall_moment)
-        hydro_forces(p.nlocal, p.x, p.v, p.radius, p.mass, p.cell_area, p.half_height, self.gravity,
-                     self.water, p.heave_damping, p.force)
+        if self.water is not None:
+            hydro_forces(p.nlocal, p.x, p.v, p.radius, p.mass, p.cell_area, p.half_height, self.gravity,
+                         self.water, p.heave_damping, p.force)
+        else:
+            gravity_forces(p.nlocal, p.mass, self.gravity, p.force)
         push = self.job.ice.push
         if push is not None and push.stiffness is not None:
             self.boundary_force = spring_boundary(p.nlocal, p.x, p.v, p.mass, p.anchor, p.anchor_k,
@@ -467,8 +470,8 @@ class Simulation:
         kr = 0.5 * float(np.sum(p.inertia[:n] * np.einsum("ij,ij->i", p.w[:n], p.w[:n])))
         pg = float(np.sum(p.mass[:n] * self.gravity * p.x[:n, 2]))
         pb = 0.0
-        if self.water[0] > 0:
-            level, rho = self.water[1], self.water[2]
+        if self.water is not None:
+            level, rho = self.water.level, self.water.density
             pb = float(sum(buoyancy_potential(p.x[i, 2], p.radius[i], p.cell_area[i], p.half_height[i],
                                               level, rho, self.gravity) for i in range(n)))
         eb = bond_energy(n, p.gid, p.bond_gid, p.bond_hist, self.bond_law)
@@ -512,12 +515,12 @@ class Simulation:
         return row
 
     def platform_snapshot(self, first: bool = False) -> dict | None:
-        """Rank 0's snapshot arrays of the bodies and lines (pice.bodies.snapshot_arrays); None elsewhere."""
-        return None if self.platform is None else bodies.snapshot_arrays(self.platform, self.hulls, first)
+        """Rank 0's snapshot arrays of the bodies and lines (pice.platform.output.snapshot_arrays); None elsewhere."""
+        return None if self.platform is None else platform_output.snapshot_arrays(self.platform, self.hulls, first)
 
     def platform_row(self) -> dict[str, np.ndarray]:
         """Rank 0's series entries of the bodies and lines, with the peaks since the previous row."""
-        return bodies.series_entries(self.platform, self.body_total, self.peaks.take())
+        return platform_output.series_entries(self.platform, self.body_total, self.peaks.take())
 
     def describe(self) -> dict:
         """Facts for `pice check` and the run file's attributes."""
@@ -530,7 +533,7 @@ class Simulation:
                     bond_kn=self.bond.kn, bond_ks=self.bond.ks, bond_kb=self.bond.kb, bond_kt=self.bond.kt,
                     normal_strength=self.bond.normal_strength, shear_strength=self.bond.shear_strength,
                     bond_friction=self.bond.friction, element_mass=float(p.mass[0]), 
-                    **(bodies.describe(self.platform, self.dt) if self.platform is not None else {}))
+                    **(platform_output.describe(self.platform, self.dt) if self.platform is not None else {}))
 
     @property
     def total_steps(self) -> int:

@@ -8,16 +8,16 @@ import math
 import numpy as np
 import pytest
 
-from pice.kernels.hull import brace_submerged, submerged_volume
 from pice.kernels.geometry import rotation_matrix
-from pice.physics.body import RigidBody
-from pice.scenes.hulls import (
+from pice.platform.hull_buoyancy import brace_submerged, submerged_volume
+from pice.platform.hulls import (
     box,
     cylinder,
     merge,
     semi_submersible,
     semi_submersible_braces,
 )
+from pice.platform.rigid_body import RigidBody
 
 RHO, G = 1025.0, 9.81
 LX, LY, H, DRAFT, KG = 40.0, 10.0, 5.0, 2.0, 1.5  # box barge [m]; KG: CG above keel

@@ -1,4 +1,4 @@
-"""Quasi-static elastic catenary (pice.physics.catenary) against an independent shooting solution.
+"""Quasi-static elastic catenary (pice.platform.catenary) against an independent shooting solution.
 
 Reference: the equilibrium ODE of a linear-elastic cable along its unstretched arc length s,
     dx/ds = H (1/T + 1/EA),  dz/ds = V (1/T + 1/EA),  dV/ds = w,  T = sqrt(H^2 + V^2),
@@ -14,7 +14,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, fsolve
 
-from pice.physics.catenary import Segment, anchor_distance, profile, solve_line
+from pice.platform.catenary import Segment, anchor_distance, profile, solve_line
 
 pytestmark = pytest.mark.nojit
 

@@ -1,13 +1,13 @@
-"""Ice-hull contact (kernels.hull_contact): action and reaction, moments, moving hulls, friction."""
+"""Ice-hull contact (platform.hull_contact): action and reaction, moments, moving hulls, friction."""
 
 import math
 
 import numpy as np
 import pytest
 
-from pice.kernels.hull_contact import build_triangle_grid, hull_forces
 from pice.kernels.geometry import rotation_matrix
-from pice.scenes.hulls import box
+from pice.platform.hull_contact import build_triangle_grid, hull_forces
+from pice.platform.hulls import box
 
 PARAMS = np.array([1e7, 5e6, 0.0, 0.3])  # kn [N/m], kt [N/m], zeta, mu
 

@@ -1,7 +1,7 @@
 """DEM mooring lines (chains of nodes with axial bonds, Morison loads, seabed contact).
 
 References: the elastic catenary written out in this file (Irvine, Cable Structures, 1981,
-Eqs. 2.26-2.27, solved with scipy), independent of pice.physics.catenary; the pretension of
+Eqs. 2.26-2.27, solved with scipy), independent of pice.platform.catenary; the pretension of
 Zhu & Ji (2022), section 4.1.
 """
 
@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from scipy.optimize import fsolve
 
-from pice.physics.catenary import Segment, solve_line
-from pice.physics.mooring import LineSegment, build_lines
-from pice.scenes.moorings import spread_mooring, zhu_ji_fairleads
+from pice.platform.catenary import Segment, solve_line
+from pice.platform.layout import spread_mooring, zhu_ji_fairleads
+from pice.platform.mooring_lines import LineSegment, build_lines
 
 
 def irvine(L, w, ea, H, va, s):
@@ -95,18 +95,13 @@ def test_spread_mooring_at_rest_and_surge_restoring_force():
 
 def test_towed_line_tension_follows_the_quasi_static_envelope():
     """Issue 4 towed test (Table 2 of Zhu & Ji 2022; benchmarks/towed_line.py prints the full study).
-    Reference: the quasi-static elastic catenary (pice.physics.catenary) at the top end's mean and far
+    Reference: the quasi-static elastic catenary (pice.platform.catenary) at the top end's mean and far
     positions. At 1.58 s the motion is slow for the line's statics but drag adds a little: the mean top
     tension over the last three periods lies within 5 % of the static tension at the mean position,
     the peak within 5 % of the static tension at the far extreme (+75 mm); the marker 0.8 m from the
     top moves the same with 20 and 40 elements within 2 % (converged)."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    from towed_line import AMP, D, DRY, E, LENGTH, RHO, TOP, run
-
-    from pice.physics.catenary import solve_line
+    from pice.platform.catenary import solve_line
+    from pice.scenes.towed_line import AMP, D, DRY, E, LENGTH, RHO, TOP, run
 
     area = math.pi * D * D / 4
     line = [Segment(LENGTH, (DRY - RHO * area) * 9.81, E * area)]

@@ -5,11 +5,11 @@ import math
 import numpy as np
 
 from pice.kernels.geometry import rotation_matrix
-from pice.physics.body import RigidBody
-from pice.physics.mooring import build_lines
-from pice.physics.platform import Attachment, Platform
-from pice.scenes.hulls import semi_submersible, semi_submersible_braces
-from pice.scenes.moorings import spread_mooring, zhu_ji_fairleads
+from pice.platform.hulls import semi_submersible, semi_submersible_braces
+from pice.platform.layout import spread_mooring, zhu_ji_fairleads
+from pice.platform.mooring_lines import build_lines
+from pice.platform.platform import Attachment, Platform
+from pice.platform.rigid_body import RigidBody
 
 CG = np.array([0.0, 0.0, -14.0 + 8.9])  # Table 3: CG 8.9 m above the keel, draft 14 m
 

@@ -158,6 +158,11 @@ def test_run_file_and_vtk_carry_the_platform(tmp_path):
         assert (s["ice_force_min"][:, 0, 0] <= s["ice_force"][:, 0, 0]).all()
         assert s["ice_force_max"][:, 0, 0].max() > 1e5
         np.testing.assert_allclose(s["fairlead_tension"][0], 20.0e3, rtol=0.01)  # the pretension
+        # the "balance" mass as resolved at set-up: the 20 x 16 x 3 m^3 the box displaces plus the
+        # lines' vertical pull of the t = 0 row (Archimedes)
+        mass = f.attrs["body_mass"]
+        assert f.attrs["bodies"] == 1 and f.attrs["mooring_lines"] == 4 and mass.shape == (1,)
+        np.testing.assert_allclose(mass[0], 1025.0 * 960.0 + s["mooring_force"][0, 0, 2] / 9.81, rtol=1e-12)
         last = f["snapshots"][sorted(f["snapshots"])[-1]]
         pose = last["body_pose"][0]
         v0 = f["snapshots/00000/hull0_vertices"][()]
@@ -172,11 +177,29 @@ def test_run_file_and_vtk_carry_the_platform(tmp_path):
     assert len(lines.cells_dict["line"]) == 4 * 12  # 120 m lines in 10 m elements
 
 
+@pytest.mark.parametrize("model", [None, "dem", "quasi_static"])
+def test_balance_mass_floats_the_body_with_its_lines(model):
+    """mass = "balance" (resolved before the body is built): its weight is the buoyancy of the hull at
+    the given position plus the lines' vertical pull at their initial layout (Archimedes), so at
+    t = 0 the net vertical load on the body vanishes (1e-12 of its weight; no ice touches it yet).
+    Without lines the box barge carries what it displaces, 1025 kg/m^3 x 20 x 16 x 3 m^3 (1e-12);
+    the lines pull it down, so with them it is lighter. describe() reports the resolved mass."""
+    sim = Simulation(make(job_text(mooring=model)))
+    b = sim.platform.bodies[0]
+    assert abs(b.force[2]) < 1e-12 * b.mass * 9.81
+    if model is None:
+        assert b.mass == pytest.approx(1025.0 * 960.0, rel=1e-12)
+    else:
+        assert sim.platform.mooring_force[0, 2] < 0.0 and b.mass < 1025.0 * 960.0
+        assert b.mass == pytest.approx(1025.0 * 960.0 + sim.platform.mooring_force[0, 2] / 9.81, rel=1e-12)
+    assert sim.describe()["body_mass"] == [b.mass]
+
+
 def test_quasi_static_lines_pull_as_the_elastic_catenary():
-    """The quasi-static model's pull on a fairlead is the elastic catenary's (physics.catenary,
+    """The quasi-static model's pull on a fairlead is the elastic catenary's (platform.catenary,
     Irvine 1981): horizontal tension H towards the anchor and the fairlead's vertical tension V down;
     at t = 0 each line holds the 20 kN pretension its anchor was placed for (layout solve, 1e-6)."""
-    from pice.physics.catenary import Segment, solve_line
+    from pice.platform.catenary import Segment, solve_line
 
     sim = Simulation(make(job_text(mooring="quasi_static")))
     lines = sim.platform.groups[0].lines

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from scipy.spatial import ConvexHull, HalfspaceIntersection
 
-from pice.kernels.hull import submerged_volume, transform
 from pice.kernels.geometry import quat_mul, rotation_matrix
-from pice.kernels.rigid_body import angular_velocity, body_rates, free_rotation, rigid_step, rotational_energy
+from pice.platform.hull_buoyancy import submerged_volume, transform
+from pice.platform.rigid_body import angular_velocity, body_rates, free_rotation, rigid_step, rotational_energy
 
 pytestmark = pytest.mark.nojit
 
@@ -165,9 +165,9 @@ def test_upright_shapes_match_closed_forms():
 def test_brace_buoyancy_eq13_14():
     """Eqs. 13-14 of Zhu & Ji (2022): a horizontal brace half immersed displaces pi R^2 L / 2 with its
     centre of buoyancy 4R/(3 pi) below the axis; fully immersed pi R^2 L; an inclined brace crossing
-    the water plane agrees with the clipped mesh of a finely faceted cylinder (kernels.hull, 256
+    the water plane agrees with the clipped mesh of a finely faceted cylinder (platform.hull_buoyancy, 256
     facets: the facet error is ~1e-4 of the volume) within 0.2 %."""
-    from pice.kernels.hull import brace_submerged
+    from pice.platform.hull_buoyancy import brace_submerged
 
     R, L = 1.5, 20.0
     vol, c = brace_submerged(np.array([0.0, 0.0, 0.0]), np.array([L, 0.0, 0.0]), R, 0.0, 200)

@@ -55,19 +55,24 @@ def buoyancy_potential(zc, r, cell_area, half_height, level, rho_w, g):
 
 
 @njit(**JIT)
+def gravity_forces(nlocal, mass, g, force):
+    """Add the weight m g [N] (along -z) to owned particles: the whole of gravity where there is no water."""
+    for i in range(nlocal):
+        force[i, 2] -= mass[i] * g
+
+
+@njit(**JIT)
 def hydro_forces(nlocal, x, v, radius, mass, cell_area, half_height, g, water, heave_c, force):
     """Add gravity, buoyancy, drag and heave damping to owned particles.
 
     Args:
-        water: (7,) [has_water, level [m], rho_w [kg/m^3], current_x, current_y [m/s], C_d, unused]
+        water: physics.hydro.Water (level [m], density [kg/m^3], current_x, current_y [m/s],
+            drag_coefficient [-]).
         heave_c: (n,) linear heave damping coefficient [N s/m] (wave radiation), 0 for none.
     """
-    has_water = water[0] > 0.0
-    level, rho_w, ucx, ucy, cd = water[1], water[2], water[3], water[4], water[5]
+    level, rho_w, ucx, ucy, cd = water.level, water.density, water.current_x, water.current_y, water.drag_coefficient
     for i in range(nlocal):
         force[i, 2] -= mass[i] * g
-        if not has_water:
-            continue
         r = radius[i]
         vsub, h, awp = submerged(x[i, 2], r, cell_area[i], half_height[i], level)
         if h <= 0.0:

@@ -1,20 +1,30 @@
-"""Water parameters for the hydrodynamics kernel."""
+"""Gravity and the water on the ice: the force terms and their parameters (kernels/hydro.py).
+
+A job without [water] gets ``GravityTerm`` alone; with [water], ``WaterTerm`` adds gravity,
+buoyancy, Morison drag (Eq. 8 of Zhu & Ji 2022) and heave damping in one pass.
+"""
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 
-from ..kernels.hydro import submerged
+from ..kernels.hydro import buoyancy_potential, gravity_forces, hydro_forces, submerged
+
+Water = namedtuple("Water", ["level", "density", "current_x", "current_y", "drag_coefficient"])
+Water.__doc__ = """Still water with a uniform current, as the hydrodynamics kernel reads it: level [m],
+density [kg/m^3], current_x, current_y [m/s], drag_coefficient [-] (C_d of Eq. 8)."""
 
 
-def water_array(job) -> np.ndarray:
-    """[has_water, level, rho_w, current_x, current_y, C_d, 0] for kernels.hydro.hydro_forces."""
+def water_from_job(job) -> Water | None:
+    """The job's [water] as a Water record, or None when the job declares none."""
     w = job.water
     if w is None:
-        return np.zeros(7)
-    return np.array([1.0, w.level, w.density, w.current[0], w.current[1], w.drag_coefficient, 0.0])
+        return None
+    return Water(level=float(w.level), density=float(w.density), current_x=float(w.current[0]),
+                 current_y=float(w.current[1]), drag_coefficient=float(w.drag_coefficient))
 
 
 def heave_damping(job, particles) -> np.ndarray:
@@ -33,3 +43,34 @@ def heave_damping(job, particles) -> np.ndarray:
         awp = awp if awp > 0 else math.pi * particles.radius[i] ** 2
         c[i] = 2.0 * w.heave_damping_ratio * math.sqrt(particles.mass[i] * w.density * job.gravity * awp)
     return c
+
+
+class GravityTerm:
+    """The weight of every owned element, m g along -z [N] (a job without [water])."""
+
+    name = "gravity"
+
+    def __init__(self, gravity: float):
+        self.gravity = gravity
+
+    def add_forces(self, p, c, dt):
+        gravity_forces(p.nlocal, p.mass, self.gravity, p.force)
+
+
+class WaterTerm:
+    """Gravity, buoyancy of the submerged cap or prism, Morison drag and heave damping [N]."""
+
+    name = "water"
+
+    def __init__(self, water: Water, gravity: float):
+        self.water, self.gravity = water, gravity
+
+    def add_forces(self, p, c, dt):
+        hydro_forces(p.nlocal, p.x, p.v, p.radius, p.mass, p.cell_area, p.half_height, self.gravity,
+                     self.water, p.heave_damping, p.force)
+
+    def buoyancy_energy(self, p) -> float:
+        """Potential energy of the buoyancy of the owned elements [J]."""
+        w = self.water
+        return float(sum(buoyancy_potential(p.x[i, 2], p.radius[i], p.cell_area[i], p.half_height[i],
+                                            w.level, w.density, self.gravity) for i in range(p.nlocal)))

@@ -1,1 +1,1 @@
-"""Scene builders: turn a validated job into particles (and, later, bodies and moorings)."""
+"""Scene builders: turn a validated job into particles (its bodies and moorings: pice.platform.build)."""

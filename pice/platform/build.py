@@ -1,44 +1,36 @@
-"""The [[bodies]] and [[moorings]] of a job: hull geometry on every rank, the Platform on rank 0.
+"""The platform of a job: [[bodies]] and [[moorings]] -> hull geometry on every rank, the Platform on rank 0.
 
 Every rank needs each hull's triangles and contact grid (it evaluates the contact of its own ice
-with the hulls); only rank 0 builds the rigid bodies and the mooring lines and steps them.
+with the hulls); only rank 0 builds the rigid bodies and the mooring lines and steps them. A body
+whose mass is "balance" gets the mass that floats it at its position with its lines attached: the
+hull's buoyancy there (platform.hull_buoyancy) plus the lines' vertical pull at their initial
+layout, both known before the body is built. Also the set-up checks of the bodies against the ice.
 """
 
 from __future__ import annotations
 
 import logging
 import pathlib
-from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import JobError
-from ..job_platform import heading_quaternion
-from ..kernels.hull_contact import build_triangle_grid
 from ..kernels.geometry import rotation_matrix
-from ..physics.body import RigidBody
-from ..physics.catenary import Segment
 from ..physics.contact import damping_ratio_from_restitution
-from ..physics.mooring import LineSegment, build_lines
-from ..physics.platform import Attachment, MooringGroup, Platform
-from ..physics.quasi_static import QuasiStaticLines
+from .catenary import Segment
+from .hull_buoyancy import submerged
+from .hull_contact import Hull, build_triangle_grid, hull_forces
 from .hulls import box, semi_submersible, semi_submersible_braces
-from .moorings import RHO_STEEL, spread_mooring
+from .layout import RHO_STEEL, spread_mooring
+from .mooring_lines import LineSegment, build_lines
+from .platform import Attachment, MooringGroup, Platform, lines_pull
+from .quasi_static import QuasiStaticLines
+from .rigid_body import RigidBody, heading_quaternion
 
 log = logging.getLogger("pice")
 
 
-@dataclass
-class Hull:
-    """One body's surface for the ice-hull contact kernel (body frame) and its contact law."""
-
-    name: str
-    vertices: np.ndarray      # (nv, 3) [m]
-    triangles: np.ndarray     # (nt, 3)
-    grid: tuple               # kernels.hull_contact.build_triangle_grid
-    params: np.ndarray        # (4,) kn [N/m], kt [N/m], zeta, mu
-
-
+# -- hulls (every rank) ------------------------------------------------------------------------
 def hull_mesh(job, k: int, base_dir=None) -> tuple[np.ndarray, np.ndarray]:
     """(vertices, triangles) of bodies[k]'s hull in its body frame; refuses an inside-out mesh."""
     from ..io.mesh import read_triangle_mesh
@@ -75,6 +67,34 @@ def hulls_from_job(job, *, default_kn: float, reach: float, base_dir=None) -> li
     return out
 
 
+def initial_poses(job) -> np.ndarray:
+    """(n_bodies, 13) x, q, v, omega at t = 0 as the job gives them (at rest)."""
+    poses = np.zeros((len(job.bodies), 13))
+    for k, b in enumerate(job.bodies):
+        poses[k, :3] = b.position
+        poses[k, 3:7] = heading_quaternion(b.heading)
+    return poses
+
+
+def refuse_initial_overlap(job, p, hulls: list[Hull], poses: np.ndarray) -> None:
+    """A hull that cuts into the ice at t = 0 would fire elements off: refuse it with the fix.
+    Called on the whole sheet, before it is distributed."""
+    for k, h in enumerate(hulls):
+        f, t = np.zeros((p.n, 3)), np.zeros((p.n, 3))
+        params = h.params.copy()
+        params[1:] = 0.0  # elastic normal force only
+        pose = poses[k].copy()
+        pose[7:] = 0.0
+        hull_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, pose,
+                    h.vertices, h.triangles, *h.grid, params, np.zeros((p.n, 3)), 0.0, f, t)
+        n_el = int(np.count_nonzero(np.abs(f).sum(axis=1) > 0))
+        if n_el:
+            raise JobError(f"{job.source}: bodies[{k}] ({h.name}): its hull overlaps {n_el} ice element(s) at "
+                           "t = 0; move the body (bodies.position) or the sheet (ice.origin) so that they start "
+                           "apart")
+
+
+# -- mooring lines (rank 0) --------------------------------------------------------------------
 def _segments(spec, rho_w: float, g: float) -> list[LineSegment]:
     return [LineSegment(length=s.length, ea=s.ea, diameter=s.diameter, wet_weight=s.wet_weight,
                         dry_mass=s.dry_mass if s.dry_mass is not None else s.wet_weight / g / (1.0 - rho_w / RHO_STEEL),
@@ -82,11 +102,11 @@ def _segments(spec, rho_w: float, g: float) -> list[LineSegment]:
             for s in spec.segments]
 
 
-def _mooring_group(job, k: int, bodies: list[RigidBody]) -> MooringGroup:
+def _mooring_group(job, k: int, poses: np.ndarray) -> MooringGroup:
+    """The lines of moorings[k], anchored by the layout solve, attached to their body at its pose
+    (poses: (n_bodies, 13) as initial_poses gives them)."""
     spec, w = job.moorings[k], job.water
-    names = [b.name for b in job.bodies]
-    ib = names.index(spec.body)
-    body = bodies[ib]
+    ib = [b.name for b in job.bodies].index(spec.body)
     segs = _segments(spec, w.density, job.gravity)
     try:
         lines, state, dist = spread_mooring(fairleads_body=np.asarray(spec.fairleads, float),
@@ -101,16 +121,15 @@ def _mooring_group(job, k: int, bodies: list[RigidBody]) -> MooringGroup:
              "%s (horizontal tension %.4g N, anchor uplift %.4g N, grounded %.1f m)", k, spec.model, len(lines),
              dist, spec.pretension, "touches the seabed" if state.touches_seabed else "hangs free of the seabed",
              state.horizontal_tension, state.anchor_vertical, state.grounded_length)
-    R = rotation_matrix(body.q)
-    atts = [Attachment(j, ib, R.T @ (fl - body.x)) for j, (_, fl, _) in enumerate(lines)]
-    seabed_z = w.level - w.depth
+    x, R = poses[ib, :3], rotation_matrix(poses[ib, 3:7])
+    atts = [Attachment(j, ib, R.T @ (fl - x)) for j, (_, fl, _) in enumerate(lines)]
     if spec.model == "quasi_static":
         cat = [Segment(s.length, s.wet_weight, s.ea) for s in segs]
         lines_obj = QuasiStaticLines([a for a, _, _ in lines], [f for _, f, _ in lines], [cat] * len(lines),
                                      seabed=True)
     else:
         lines_obj = build_lines(lines, element_length=spec.element_length, water_density=w.density,
-                                water_level=w.level, seabed_z=seabed_z, current=(*w.current, 0.0),
+                                water_level=w.level, seabed_z=w.level - w.depth, current=(*w.current, 0.0),
                                 bond_damping=spec.bond_damping, seabed_stiffness=spec.seabed_stiffness,
                                 seabed_friction=spec.seabed_friction)
         if spec.relax:
@@ -118,32 +137,41 @@ def _mooring_group(job, k: int, bodies: list[RigidBody]) -> MooringGroup:
     return MooringGroup(lines_obj, atts)
 
 
+# -- bodies (rank 0) ---------------------------------------------------------------------------
+def _body_mass(job, k: int, hull: Hull, braces: np.ndarray, pose: np.ndarray, line_pull_z: float) -> float:
+    """bodies[k].mass [kg]; "balance": the mass whose weight equals the buoyancy of hull and braces
+    at the body's initial pose plus the lines' vertical pull there, rho_w V + F_z / g."""
+    spec, w = job.bodies[k], job.water
+    if spec.mass != "balance":
+        return float(spec.mass)
+    vol = submerged(hull.vertices, hull.triangles, braces, position=pose[:3], attitude=pose[3:7], level=w.level)[0]
+    mass = w.density * vol + line_pull_z / job.gravity
+    if mass <= 0.0:
+        raise JobError(f"{job.source}: bodies[{k}].mass = \"balance\": the hull displaces {vol:.4g} m^3 at "
+                       f"its position, too little to carry the lines' pull; lower bodies[{k}].position")
+    log.info("bodies[%d] (%s): mass %.6g kg floats at its position (displacement %.6g kg, lines' pull "
+             "%.4g N)", k, spec.name, mass, w.density * vol, line_pull_z)
+    return mass
+
+
 def build_platform(job, hulls: list[Hull]) -> Platform:
-    """Rank 0's bodies and mooring lines at t = 0 (lines settled when their entry asks for it)."""
+    """Rank 0's bodies and mooring lines at t = 0 (lines settled when their entry asks for it); a
+    "balance" mass is resolved first, from the lines at their initial layout, and each body built once."""
     w, g = job.water, job.gravity
+    poses = initial_poses(job)
+    groups = [_mooring_group(job, k, poses) for k in range(len(job.moorings))]
+    pull = lines_pull(groups, len(job.bodies))
     bodies = []
-    for spec, hull in zip(job.bodies, hulls):
+    for k, (spec, hull) in enumerate(zip(job.bodies, hulls)):
         braces = semi_submersible_braces() if spec.hull.type == "semi_submersible" else np.zeros((0, 7))
-        body = RigidBody(spec.name, 1.0, np.asarray(spec.inertia, float), hull.vertices, hull.triangles,
-                         braces=braces, added_mass=np.asarray(spec.added_mass, float), damping=np.asarray(spec.damping, float),
+        body = RigidBody(spec.name, _body_mass(job, k, hull, braces, poses[k], pull[k, 2]),
+                         np.asarray(spec.inertia, float), hull.vertices, hull.triangles, braces=braces,
+                         added_mass=np.asarray(spec.added_mass, float), damping=np.asarray(spec.damping, float),
                          current_drag=np.asarray(spec.current_drag, float),
                          prescribed=np.asarray(spec.velocity, float) if spec.motion == "prescribed" else None)
-        body.x = np.asarray(spec.position, float)
-        body.q = np.asarray(heading_quaternion(spec.heading), float)
+        body.x = poses[k, :3].copy()
+        body.q = poses[k, 3:7].copy()
         bodies.append(body)
-    groups = [_mooring_group(job, k, bodies) for k in range(len(job.moorings))]
     platform = Platform(bodies, rho_w=w.density, g=g, level=w.level, current=w.current, groups=groups)
-    platform.loads()  # the lines' pull at t = 0, for "balance"
-    for k, (spec, body) in enumerate(zip(job.bodies, bodies)):
-        if spec.mass == "balance":
-            vol = body.submerged(w.level)[0]  # hull mesh and braces
-            body.mass = w.density * vol + platform.mooring_force[k, 2] / g
-            if body.mass <= 0.0:
-                raise JobError(f"{job.source}: bodies[{k}].mass = \"balance\": the hull displaces {vol:.4g} m^3 at "
-                               f"its position, too little to carry the lines' pull; lower bodies[{k}].position")
-            log.info("bodies[%d] (%s): mass %.6g kg floats at its position (displacement %.6g kg, lines' pull "
-                     "%.4g N)", k, spec.name, body.mass, w.density * vol, platform.mooring_force[k, 2])
-        else:
-            body.mass = float(spec.mass)
-    platform.loads()
+    platform.loads()  # gravity, buoyancy and the lines' pull at t = 0: the first half kick's loads
     return platform

@@ -1,4 +1,4 @@
-"""Rank 0's bodies and their mooring lines, stepped together (DESIGN.md, the step, item 5).
+"""The platform: rank 0's bodies and their mooring lines, stepped together (DESIGN.md, the step, item 5).
 
 Per ice step of dt: ``kick`` (half step with the loads of the previous evaluation), ``drift``
 (bodies move and turn; the lines sub-step at their own stable step with their fairleads carried
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..kernels.geometry import rotation_matrix
-from .body import RigidBody
+from .rigid_body import RigidBody
 
 
 @dataclass
@@ -33,6 +33,17 @@ class MooringGroup:
 
     lines: object
     attachments: list[Attachment]
+
+
+def lines_pull(groups: list[MooringGroup], n_bodies: int) -> np.ndarray:
+    """(n_bodies, 3) summed pull [N] of all lines on each body, groups and lines in order (the lines'
+    part of the "balance" mass before the bodies exist, and Platform.mooring_force)."""
+    out = np.zeros((n_bodies, 3))
+    for grp in groups:
+        pull = grp.lines.reactions(grp.lines.fairleads)
+        for a in grp.attachments:
+            out[a.body] += pull[a.line]
+    return out
 
 
 class Platform:
@@ -102,7 +113,6 @@ class Platform:
             f, m = b.hydro_loads(rho_w=self.rho_w, g=self.g, level=self.level, current=self.current)
             b.force = f + self.ice[k, :3]
             b.torque = m + self.ice[k, 3:]
-        self.mooring_force = np.zeros((len(self.bodies), 3))
         for grp in self.groups:
             pull = grp.lines.reactions(grp.lines.fairleads)
             for a in grp.attachments:
@@ -110,7 +120,7 @@ class Platform:
                 arm = rotation_matrix(b.q) @ a.point
                 b.force = b.force + pull[a.line]
                 b.torque = b.torque + np.cross(arm, pull[a.line])
-                self.mooring_force[a.body] += pull[a.line]
+        self.mooring_force = lines_pull(self.groups, len(self.bodies))
 
     def fairlead_tensions(self) -> np.ndarray:
         """(n_lines,) tension [N] at every fairlead, groups in order."""
@@ -137,7 +147,7 @@ class Platform:
     _BODY_STATE = ("x", "v", "q", "L", "force", "torque")
 
     def state(self) -> dict[str, np.ndarray]:
-        """Everything that evolves, as flat arrays (physics.platform is rebuilt from the job first)."""
+        """Everything that evolves, as flat arrays (the platform is rebuilt from the job first)."""
         out = {"time": np.array(self.time), "ice": self.ice.copy()}
         for k, b in enumerate(self.bodies):
             for name in self._BODY_STATE:

@@ -1,10 +1,6 @@
-"""The floating bodies inside a simulation: set-up checks and what rank 0 records of them.
-
-pice.simulation owns the coupling (hull contact on every rank, one reduction, rank 0's step and
-the pose broadcast); this module holds the pieces around it: the poses a job starts from, the
-refusal of a hull that starts inside the ice, the peaks between series rows, and the series,
-snapshot and `pice check` entries of the bodies and their lines.
-"""
+"""What rank 0 records of the platform: load peaks between series rows, the series and snapshot
+entries of the bodies and their lines, and the facts `pice check` prints and the run file keeps
+(``describe``: among them each body's resolved mass, ``body_mass``)."""
 
 from __future__ import annotations
 
@@ -12,37 +8,7 @@ import math
 
 import numpy as np
 
-from .errors import JobError
-from .kernels.hull_contact import hull_forces
-
-
-def initial_poses(job) -> np.ndarray:
-    """(n_bodies, 13) x, q, v, omega at t = 0 as the job gives them (at rest)."""
-    from .job_platform import heading_quaternion
-
-    poses = np.zeros((len(job.bodies), 13))
-    for k, b in enumerate(job.bodies):
-        poses[k, :3] = b.position
-        poses[k, 3:7] = heading_quaternion(b.heading)
-    return poses
-
-
-def refuse_initial_overlap(job, p, hulls, poses) -> None:
-    """A hull that cuts into the ice at t = 0 would fire elements off: refuse it with the fix.
-    Called on the whole sheet, before it is distributed."""
-    for k, h in enumerate(hulls):
-        f, t = np.zeros((p.n, 3)), np.zeros((p.n, 3))
-        params = h.params.copy()
-        params[1:] = 0.0  # elastic normal force only
-        pose = poses[k].copy()
-        pose[7:] = 0.0
-        hull_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, pose,
-                    h.vertices, h.triangles, *h.grid, params, np.zeros((p.n, 3)), 0.0, f, t)
-        n_el = int(np.count_nonzero(np.abs(f).sum(axis=1) > 0))
-        if n_el:
-            raise JobError(f"{job.source}: bodies[{k}] ({h.name}): its hull overlaps {n_el} ice element(s) at "
-                           "t = 0; move the body (bodies.position) or the sheet (ice.origin) so that they start "
-                           "apart")
+from .rigid_body import euler_angles
 
 
 class Peaks:
@@ -72,8 +38,6 @@ class Peaks:
 
 def series_entries(platform, ice_total, peaks: dict | None) -> dict[str, np.ndarray]:
     """Rank 0's series entries of the bodies and lines (SI units, angles in rad)."""
-    from .physics.body import euler_angles
-
     bodies = platform.bodies
     ice = ice_total if ice_total is not None else np.zeros((len(bodies), 6))
     row = dict(body_position=np.array([b.x for b in bodies]),
@@ -109,7 +73,8 @@ def snapshot_arrays(platform, hulls, first: bool) -> dict[str, np.ndarray]:
 
 
 def describe(platform, dt: float) -> dict:
-    """Bodies, their masses [kg], lines, DEM nodes and line sub-steps per ice step (0: quasi-static)."""
+    """Bodies, their masses [kg] (a "balance" mass as resolved at set-up), lines, DEM nodes and line
+    sub-steps per ice step of dt [s] (0: quasi-static)."""
     nodes = sum(len(g.lines.x) for g in platform.groups if hasattr(g.lines, "x"))
     sub = max(1, int(math.ceil(dt / platform.line_dt - 1e-12))) if math.isfinite(platform.line_dt) else 0
     return dict(bodies=len(platform.bodies), body_mass=[b.mass for b in platform.bodies],

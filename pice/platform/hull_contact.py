@@ -9,15 +9,30 @@ about its centre of gravity) is summed for the rank-0 reduction.
 The triangle grid (body frame): origin (3,), cell size, dims (3,), cell_start (ncell+1,),
 cell_tris: triangles whose bounding box, grown by the largest radius, overlaps each cell.
 params: kn [N/m], kt [N/m], zeta, mu.
+
+``hull_forces`` is a numba kernel (a pure function of arrays and scalars: no MPI, no I/O), run by
+every rank on its own ice; ``Hull`` and ``build_triangle_grid`` set it up (platform.build).
 """
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
-from . import JIT
-from .geometry import closest_point_on_triangle, rotation_matrix
+from ..kernels import JIT
+from ..kernels.geometry import closest_point_on_triangle, rotation_matrix
+
+
+@dataclass
+class Hull:
+    """One body's surface for the ice-hull contact kernel (body frame) and its contact law."""
+
+    name: str
+    vertices: np.ndarray      # (nv, 3) [m]
+    triangles: np.ndarray     # (nt, 3)
+    grid: tuple               # build_triangle_grid
+    params: np.ndarray        # (4,) kn [N/m], kt [N/m], zeta, mu
 
 
 def build_triangle_grid(vertices: np.ndarray, triangles: np.ndarray, *, reach: float):

@@ -1,10 +1,11 @@
 """Hull meshes: closed, outward-oriented triangle meshes in the body frame (origin at the CG).
 
-Built from parameters (boxes, the semi-submersible of Zhu & Ji 2022) or read with meshio. Parts
-of a hull are separate closed meshes that touch without overlapping, so the submerged volumes of
-the parts add up (kernels.hull) and the contact sees their outer faces. Braces are not
-triangles but cylinders (p0, p1, radius) whose buoyancy follows Eqs. 13-14 (semi_submersible_braces,
-RigidBody.braces); ``cylinder`` meshes one for drawing or checking.
+Built from parameters (boxes, the semi-submersible of Zhu & Ji 2022) here, or read with meshio
+(platform.build.hull_mesh). Parts of a hull are separate closed meshes that touch without
+overlapping, so the submerged volumes of the parts add up (platform.hull_buoyancy) and the contact
+sees their outer faces. Braces are not triangles but cylinders (p0, p1, radius) whose buoyancy
+follows Eqs. 13-14 (semi_submersible_braces, RigidBody.braces); ``cylinder`` meshes one for
+drawing or checking.
 """
 
 from __future__ import annotations
@@ -98,7 +99,7 @@ def semi_submersible_braces(*, length: float = 86.2, width: float = 64.6, draft:
                             brace_diameter: float = 2.5, brace_height: float | None = None) -> np.ndarray:
     """The braces of ``semi_submersible`` (same size parameters) as cylinders: (4, 7) rows
     (p0 (3), p1 (3), radius) in the body frame [m], for ``RigidBody(braces=...)``, whose buoyancy
-    follows Eqs. 13-14 (kernels.hull.brace_submerged).
+    follows Eqs. 13-14 (platform.hull_buoyancy.brace_submerged).
 
     Assumption (the paper gives no drawing; docs/semi_submersible.md): four horizontal braces of
     diameter ``brace_diameter`` join neighbouring columns along their centre lines, their axes

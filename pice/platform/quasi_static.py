@@ -1,10 +1,10 @@
-"""Quasi-static mooring lines: each line's pull on its fairlead from the elastic catenary (physics.catenary).
+"""Quasi-static mooring lines: each line's pull on its fairlead from the elastic catenary (platform.catenary).
 
 The cheap mooring model for a scene that needs only the restoring force: no line dynamics, no
 drag; the line shape follows the fairlead instantly. A line is re-solved when its fairlead has
 moved more than ``tol`` since its last solve (the pull is otherwise kept), so a platform that
-hardly moves costs almost nothing. Interface as physics.mooring.MooringLines (what
-physics.platform.Platform uses): ``fairleads``, ``advance``, ``reactions``, tensions.
+hardly moves costs almost nothing. Interface as platform.mooring_lines.MooringLines (what
+platform.platform.Platform uses): ``fairleads``, ``advance``, ``reactions``, tensions.
 """
 
 from __future__ import annotations

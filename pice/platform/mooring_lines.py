@@ -2,7 +2,8 @@
 
 A line runs from its anchor to its fairlead through segments (Table 5 of Zhu & Ji 2022), each cut
 into elements of at most ``element_length``; the nodes start on the quasi-static elastic catenary
-(physics.catenary), so a line begins close to equilibrium.
+(platform.catenary), so a line begins close to equilibrium. The physics of a node (bonds, weight,
+Morison drag, seabed) and the sub-step are the numba kernels of platform.mooring_line_kernels.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..kernels.mooring import FIXED, FREE, PRESCRIBED, advance_lines, line_forces, node_tangents, relax_lines
+from .mooring_line_kernels import FIXED, FREE, PRESCRIBED, advance_lines, line_forces, node_tangents, relax_lines
 from .catenary import Segment, profile, solve_line
 
 

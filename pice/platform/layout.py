@@ -1,4 +1,7 @@
-"""Mooring layouts: the 12-line spread of Zhu & Ji (2022), section 4.1, placed by the catenary solve."""
+"""Mooring layout: where the anchors go. Each anchor is placed by the catenary layout solve
+(platform.catenary.anchor_distance) at the horizontal distance where its line, at rest, pulls its
+fairlead with the given pretension; the 12-line spread of Zhu & Ji (2022), section 4.1, is the
+reference layout."""
 
 from __future__ import annotations
 
@@ -6,8 +9,8 @@ import math
 
 import numpy as np
 
-from ..physics.catenary import Segment, anchor_distance
-from ..physics.mooring import LineSegment
+from .catenary import Segment, anchor_distance
+from .mooring_lines import LineSegment
 
 RHO_STEEL = 7850.0  # [kg/m^3], for the dry mass of lines given by their wet weight
 
@@ -30,7 +33,8 @@ def spread_mooring(*, fairleads_body: np.ndarray, bundle_headings_deg, spread_de
     bundle_headings_deg: the outward heading of each bundle; lines of a bundle are ``spread_deg``
     apart around it. Each anchor lies ``fairlead_to_anchor_height`` below its fairlead, at the
     horizontal distance where the quasi-static line has the ``pretension`` [N] at the fairlead.
-    Returns (lines as (anchor, fairlead, segments), the layout LineState).
+    Returns (lines as (anchor, fairlead, segments), the layout LineState, the horizontal
+    anchor-fairlead distance [m]).
     """
     segments = segments or table5_segments(rho_w)
     x, state = anchor_distance([Segment(s.length, s.wet_weight, s.ea) for s in segments],

@@ -4,13 +4,20 @@ Equation of motion (Eq. 9 of Zhu & Ji 2022 without the radiation memory term):
     (M + M_add) u'' = F_ice + F_mooring + F_buoyancy + F_gravity + F_current - B |u'| u'
 with a constant, diagonal added mass in the body frame (surge, sway, heave, roll, pitch, yaw),
 quadratic damping per body-frame degree of freedom, buoyancy from the instantaneous submerged
-volume of the hull mesh (Eq. 12, kernels.hull) plus that of its cylindrical braces cut by the
-water plane (Eqs. 13-14), acting at the combined centre of buoyancy, and current
-drag 1/2 rho C_d A |u_c - v| (u_c - v) on the horizontal motion. Motion is "free" or
-"prescribed" (a velocity history, e.g. a ship pushed at constant speed).
+volume of the hull mesh and its braces (platform.hull_buoyancy, Eqs. 12-14) acting at the combined
+centre of buoyancy, and current drag 1/2 rho C_d A |u_c - v| (u_c - v) on the horizontal motion.
+Motion is "free" or "prescribed" (a velocity history, e.g. a ship pushed at constant speed).
 
 Time stepping is velocity Verlet: `kick` (half step of momentum and angular momentum), `drift`
-(translation and the exact free rotation of kernels.rigid_body), forces at the new pose, `kick`.
+(translation and the exact free rotation below), forces at the new pose, `kick`.
+
+The rotation kernels (numba; pure functions of arrays and scalars, no MPI, no I/O) carry the
+angular momentum L in the space frame; a step is a symplectic splitting (Dullweber, Leimkuhler &
+McLachlan 1997): half a kick of L by the torque, then the free rotation over dt composed of exact
+rotations about the principal axes (x: dt/2, y: dt/2, z: dt, y: dt/2, x: dt/2), then the second
+half kick. Every sub-rotation is an exact flow of Eq. 11 with a constant body rate about one axis,
+so |q| = 1 to round-off and, without torque, L is conserved exactly and the energy error is
+bounded (second order, no drift). The attitude q maps body to space coordinates.
 """
 
 from __future__ import annotations
@@ -19,12 +26,90 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
-from ..kernels.hull import brace_submerged, submerged_volume, transform
-from ..kernels.geometry import rotation_matrix
-from ..kernels.rigid_body import angular_velocity, free_rotation
+from ..kernels import JIT
+from ..kernels.geometry import quat_mul, rotation_matrix
+from . import hull_buoyancy
 
 
+# -- rotation kernels (numba) ------------------------------------------------------------------
+@njit(**JIT)
+def _rotate_about_body_axis(q, L_body, axis, inertia_axis, h):
+    """Exact free rotation for time h under the part L_axis^2 / (2 I_axis) of the kinetic energy.
+
+    The body turns about its own ``axis`` at the constant rate L_axis / I_axis; in the body frame
+    the angular momentum turns the opposite way. Returns the new (q, L_body).
+    """
+    angle = h * L_body[axis] / inertia_axis
+    c, s = math.cos(0.5 * angle), math.sin(0.5 * angle)
+    dq = np.zeros(4)
+    dq[0] = c
+    dq[1 + axis] = s
+    q_new = quat_mul(q, dq)  # body-frame increment: q' = q (cos, sin e_axis)
+    ca, sa = math.cos(angle), math.sin(angle)
+    L_new = L_body.copy()
+    j, k = (axis + 1) % 3, (axis + 2) % 3
+    L_new[j] = ca * L_body[j] + sa * L_body[k]
+    L_new[k] = -sa * L_body[j] + ca * L_body[k]
+    return q_new, L_new
+
+
+@njit(**JIT)
+def free_rotation(q, L_space, principal_inertia, dt):
+    """Advance the attitude by dt with the space-frame angular momentum L fixed (torque-free).
+
+    principal_inertia: (3,) body-frame principal moments [kg m^2]. Returns the new unit quaternion.
+    """
+    R = rotation_matrix(q)
+    L_body = R.T @ L_space
+    h = 0.5 * dt
+    q, L_body = _rotate_about_body_axis(q, L_body, 0, principal_inertia[0], h)
+    q, L_body = _rotate_about_body_axis(q, L_body, 1, principal_inertia[1], h)
+    q, L_body = _rotate_about_body_axis(q, L_body, 2, principal_inertia[2], dt)
+    q, L_body = _rotate_about_body_axis(q, L_body, 1, principal_inertia[1], h)
+    q, L_body = _rotate_about_body_axis(q, L_body, 0, principal_inertia[0], h)
+    return q / math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+
+
+@njit(**JIT)
+def angular_velocity(q, L_space, principal_inertia):
+    """Space-frame angular velocity [rad/s] w = R I_B^-1 R^T L."""
+    R = rotation_matrix(q)
+    return R @ ((R.T @ L_space) / principal_inertia)
+
+
+@njit(**JIT)
+def body_rates(q, L_space, principal_inertia):
+    """Body-frame angular velocity w_B [rad/s] of Eq. 11."""
+    return (rotation_matrix(q).T @ L_space) / principal_inertia
+
+
+@njit(**JIT)
+def rotational_energy(q, L_space, principal_inertia):
+    """1/2 L_B . I_B^-1 L_B [J]."""
+    Lb = rotation_matrix(q).T @ L_space
+    return 0.5 * np.sum(Lb * Lb / principal_inertia)
+
+
+@njit(**JIT)
+def rigid_step(x, v, q, L, mass, principal_inertia, force, torque, dt):
+    """One velocity-Verlet step of a rigid body for a constant force [N] and torque [N m] over the step.
+
+    For forces that depend on the pose, call the two halves separately (kick, drift/rotate, kick)
+    with the force evaluated in between; this helper is the building block and the torque-free test.
+    Returns (x, v, q, L) [m, m/s, -, kg m^2/s].
+    """
+    v = v + 0.5 * dt * force / mass
+    L = L + 0.5 * dt * torque
+    x = x + dt * v
+    q = free_rotation(q, L, principal_inertia, dt)
+    v = v + 0.5 * dt * force / mass
+    L = L + 0.5 * dt * torque
+    return x, v, q, L
+
+
+# -- attitude as angles ------------------------------------------------------------------------
 def euler_angles(q) -> np.ndarray:
     """(roll, pitch, yaw) [rad] of a unit quaternion (w, x, y, z): the z-y'-x'' (yaw, then pitch, then
     roll) angles of ship motions."""
@@ -35,6 +120,13 @@ def euler_angles(q) -> np.ndarray:
     return np.array([roll, pitch, yaw])
 
 
+def heading_quaternion(deg: float) -> tuple[float, float, float, float]:
+    """Unit quaternion (w, x, y, z) of a yaw of ``deg`` degrees about +z (a body's heading at t = 0)."""
+    a = math.radians(deg)
+    return (math.cos(a / 2), 0.0, 0.0, math.sin(a / 2))
+
+
+# -- the body ----------------------------------------------------------------------------------
 @dataclass
 class RigidBody:
     """State and parameters of one body (SI units; body frame at the centre of gravity)."""
@@ -49,9 +141,9 @@ class RigidBody:
     current_drag: np.ndarray = field(default_factory=lambda: np.zeros(2))  # 1/2 rho C_d A along x, y [N s^2/m^2]
     prescribed: np.ndarray | None = None  # (k, 7) rows (t, vx, vy, vz, wx, wy, wz): velocity history
     # (k, 7) rows (p0 (3), p1 (3), radius) [m], body frame: cylindrical braces, buoyancy only (Eqs. 13-14;
-    # no ice contact), e.g. scenes.hulls.semi_submersible_braces(); they must not overlap the mesh
+    # no ice contact), e.g. platform.hulls.semi_submersible_braces(); they must not overlap the mesh
     braces: np.ndarray = field(default_factory=lambda: np.zeros((0, 7)))
-    brace_slices: int = 64           # segments per brace along its axis (Eq. 13)
+    brace_slices: int = hull_buoyancy.BRACE_SLICES  # segments per brace along its axis (Eq. 13)
     x: np.ndarray = field(default_factory=lambda: np.zeros(3))    # CG position [m]
     v: np.ndarray = field(default_factory=lambda: np.zeros(3))    # CG velocity [m/s]
     q: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0, 0.0]))
@@ -89,35 +181,21 @@ class RigidBody:
         return np.concatenate([self.x, self.q, self.v, self.omega])
 
     def hull_in_space(self) -> np.ndarray:
-        return transform(self.vertices, rotation_matrix(self.q), self.x)
+        """(nv, 3) hull vertices at this pose, space frame [m]."""
+        return hull_buoyancy.hull_in_space(self.vertices, position=self.x, attitude=self.q)
 
     # -- loads ---------------------------------------------------------------------------------
     def submerged(self, level: float) -> tuple[float, np.ndarray]:
-        """(submerged volume [m^3], centre of buoyancy (3,) [m], space frame) at this pose: the clipped
-        hull mesh (Eq. 12) plus the braces sliced along their axes (Eqs. 13-14). NaN centre when dry."""
-        vol, cob = submerged_volume(self.hull_in_space(), self.triangles, level)
-        if len(self.braces) == 0:
-            return vol, cob
-        R = rotation_matrix(self.q)
-        mom = vol * cob if vol > 0.0 else np.zeros(3)
-        for row in self.braces:
-            vb, cb = brace_submerged(R @ row[:3] + self.x, R @ row[3:6] + self.x, row[6], level,
-                                     int(self.brace_slices))
-            if vb > 0.0:
-                vol += vb
-                mom = mom + vb * cb
-        if vol <= 0.0:
-            return 0.0, np.full(3, np.nan)
-        return vol, mom / vol
+        """(submerged volume [m^3], centre of buoyancy (3,) [m], space frame) of hull mesh and braces
+        at this pose (platform.hull_buoyancy.submerged)."""
+        return hull_buoyancy.submerged(self.vertices, self.triangles, self.braces, int(self.brace_slices),
+                                       position=self.x, attitude=self.q, level=level)
 
     def hydrostatics(self, *, rho_w: float, g: float, level: float) -> tuple[np.ndarray, np.ndarray, float]:
         """(force [N], moment about the CG [N m], submerged volume [m^3]) of buoyancy at this pose:
         hull mesh and braces together, acting at their combined centre of buoyancy."""
-        vol, cob = self.submerged(level)
-        if vol <= 0.0:
-            return np.zeros(3), np.zeros(3), 0.0
-        f = np.array([0.0, 0.0, rho_w * g * vol])
-        return f, np.cross(cob - self.x, f), vol
+        return hull_buoyancy.buoyancy(self.vertices, self.triangles, self.braces, int(self.brace_slices),
+                                      position=self.x, attitude=self.q, rho_w=rho_w, g=g, level=level)
 
     def hydro_loads(self, *, rho_w: float, g: float, level: float, current=(0.0, 0.0)):
         """Gravity, buoyancy, quadratic damping and current drag: (force [N], moment [N m])."""
@@ -154,6 +232,6 @@ class RigidBody:
         self.L = self.L + half_dt * self.torque
 
     def drift(self, dt: float) -> None:
-        """x += v dt and the exact torque-free rotation over dt (kernels.rigid_body)."""
+        """x += v dt and the exact torque-free rotation over dt (free_rotation)."""
         self.x = self.x + dt * self.v
         self.q = free_rotation(self.q, self.L, self.effective_inertia, dt)

@@ -1,4 +1,4 @@
-"""DEM mooring lines: chains of nodes joined by axial bonds without bending stiffness (000_..., 2.3).
+"""DEM mooring line kernels: chains of nodes joined by axial bonds without bending stiffness (000_..., 2.3).
 
 Each node stands for a piece of line of length dl (half pieces at the ends). Per node:
 - axial bonds to its neighbours: tension EA (l - l0)/l0 when stretched, nothing in compression
@@ -12,6 +12,10 @@ Node kinds: 0 free, 1 fixed (anchor), 2 prescribed (fairlead, moved with its bod
 Arrays: x, v (n, 3); mass (n,) dry mass [kg]; prev (n,) index of the previous node on the line or -1;
 seg (n,) segment index of the bond from prev to this node; props (n_seg, 8):
 [EA [N], l0 [m], D [m], wet weight [N/m], C_dn, C_dt, C_a, bond damping ratio].
+
+Every function here is a numba kernel: a pure function of arrays and scalars (no MPI, no I/O),
+owned by platform.mooring_lines.MooringLines. A sub-step (``verlet_substep``) is written once; the
+time stepping (``advance_lines``) and the static relaxation (``relax_lines``) both take it.
 """
 
 import math
@@ -19,7 +23,7 @@ import math
 import numpy as np
 from numba import njit
 
-from . import JIT
+from ..kernels import JIT
 
 FREE, FIXED, PRESCRIBED = 0, 1, 2
 
@@ -153,26 +157,35 @@ def node_tangents(x, prev, out):
 
 
 @njit(**JIT)
+def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
+                   tangent, fairleads, x_start, x_end, v_fairlead, a, dt):
+    """One velocity-Verlet sub-step of dt [s]: half kick, drift of the free nodes, the fairlead nodes
+    placed at (1 - a) x_start + a x_end (n_lines, 3) [m] with velocity v_fairlead [m/s], forces and
+    tangents at the new positions, half kick. Empty ``fairleads`` leave every end where it is."""
+    n = x.shape[0]
+    accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
+    for i in range(n):
+        if kind[i] == 0:
+            for d in range(3):
+                x[i, d] += dt * v[i, d]
+    for j in range(fairleads.shape[0]):
+        f = fairleads[j]
+        for d in range(3):
+            x[f, d] = (1.0 - a) * x_start[j, d] + a * x_end[j, d]
+            v[f, d] = v_fairlead[j, d]
+    line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass)
+    node_tangents(x, prev, tangent)
+    accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
+
+
+@njit(**JIT)
 def advance_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
                   tangent, fairleads, x_start, x_end, v_fairlead, dt, nsub):
     """nsub velocity-Verlet sub-steps of dt [s]; the fairlead nodes move linearly from x_start to
     x_end (n_lines, 3) [m] with velocity v_fairlead [m/s]; anchors stay fixed."""
-    n = x.shape[0]
     for k in range(nsub):
-        accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
-        for i in range(n):
-            if kind[i] == 0:
-                for d in range(3):
-                    x[i, d] += dt * v[i, d]
-        a = (k + 1.0) / nsub
-        for j in range(fairleads.shape[0]):
-            f = fairleads[j]
-            for d in range(3):
-                x[f, d] = (1.0 - a) * x_start[j, d] + a * x_end[j, d]
-                v[f, d] = v_fairlead[j, d]
-        line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass)
-        node_tangents(x, prev, tangent)
-        accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
+        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
+                       tangent, fairleads, x_start, x_end, v_fairlead, (k + 1.0) / nsub, dt)
 
 
 @njit(**JIT)
@@ -182,16 +195,12 @@ def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
     zero every velocity whenever the kinetic energy has just peaked. Stops when the largest net force
     on a free node is below ``tol`` [N] or after max_steps. Returns the steps taken."""
     n = x.shape[0]
+    no_fairleads = np.zeros(0, np.int64)
+    no_points = np.zeros((0, 3))
     ke_prev = 0.0
     for step in range(max_steps):
-        accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
-        for i in range(n):
-            if kind[i] == 0:
-                for d in range(3):
-                    x[i, d] += dt * v[i, d]
-        line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass)
-        node_tangents(x, prev, tangent)
-        accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
+        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
+                       tangent, no_fairleads, no_points, no_points, no_points, 1.0, dt)
         ke = 0.0
         worst = 0.0
         for i in range(n):

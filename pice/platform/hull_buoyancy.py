@@ -1,11 +1,19 @@
-"""Submerged volume and centre of buoyancy of a closed triangle mesh (Eq. 12 of Zhu & Ji 2022).
+"""Hull buoyancy: submerged volume and centre of buoyancy of a hull mesh and its braces (Eqs. 12-14
+of Zhu & Ji 2022), and the buoyancy force and moment on the body.
 
-Each triangle (in space coordinates) is clipped at the water plane z = level and the part below
-is fanned into triangles; each forms a tetrahedron with a reference point ON the water plane, whose
-signed volume is (1/6) (a - p) . ((b - p) x (c - p)) (Eq. 12). The missing lid of the clipped mesh
-lies in the water plane, so its tetrahedra have zero volume: the sum over the clipped triangles is
-the exact submerged volume of the closed mesh, and the volume-weighted tetrahedron centroids give
-the centre of buoyancy. Outward normals (counter-clockwise seen from outside) give positive volume.
+The mesh (Eq. 12): each triangle (in space coordinates) is clipped at the water plane z = level and
+the part below is fanned into triangles; each forms a tetrahedron with a reference point ON the
+water plane, whose signed volume is (1/6) (a - p) . ((b - p) x (c - p)) (Eq. 12). The missing lid of
+the clipped mesh lies in the water plane, so its tetrahedra have zero volume: the sum over the
+clipped triangles is the exact submerged volume of the closed mesh, and the volume-weighted
+tetrahedron centroids give the centre of buoyancy. Outward normals (counter-clockwise seen from
+outside) give positive volume. Braces are cylinders sliced along their axes (Eqs. 13-14,
+``brace_submerged``); the body's buoyancy acts at the combined centre of mesh and braces.
+
+The numba kernels (``submerged_volume``, ``brace_submerged``, ``transform``) are pure functions of
+arrays and scalars (no MPI, no I/O); ``submerged`` and ``buoyancy`` are their Python owners, called
+by platform.rigid_body.RigidBody and, before a body is built, by platform.build for its
+"balance" mass.
 """
 
 import math
@@ -13,7 +21,10 @@ import math
 import numpy as np
 from numba import njit
 
-from . import JIT
+from ..kernels import JIT
+from ..kernels.geometry import rotation_matrix
+
+BRACE_SLICES = 64  # default slices per brace along its axis (Eq. 13)
 
 
 @njit(**JIT)
@@ -123,3 +134,40 @@ def brace_submerged(p0, p1, radius, level, nseg):
     if vol == 0.0:
         return 0.0, np.full(3, np.nan)
     return vol, mom / vol
+
+
+def hull_in_space(vertices, *, position, attitude) -> np.ndarray:
+    """(nv, 3) body-frame hull vertices at the pose (position [m], unit quaternion), space frame [m]."""
+    return transform(vertices, rotation_matrix(attitude), position)
+
+
+def submerged(vertices, triangles, braces, brace_slices: int = BRACE_SLICES, *, position, attitude,
+              level: float) -> tuple[float, np.ndarray]:
+    """(submerged volume [m^3], centre of buoyancy (3,) [m], space frame) of a hull at a pose: the
+    clipped mesh (Eq. 12) plus the braces, (k, 7) body-frame rows (p0, p1, radius) [m], sliced along
+    their axes (Eqs. 13-14). NaN centre when dry."""
+    vol, cob = submerged_volume(hull_in_space(vertices, position=position, attitude=attitude), triangles, level)
+    if len(braces) == 0:
+        return vol, cob
+    R = rotation_matrix(attitude)
+    mom = vol * cob if vol > 0.0 else np.zeros(3)
+    for row in braces:
+        vb, cb = brace_submerged(R @ row[:3] + position, R @ row[3:6] + position, row[6], level, int(brace_slices))
+        if vb > 0.0:
+            vol += vb
+            mom = mom + vb * cb
+    if vol <= 0.0:
+        return 0.0, np.full(3, np.nan)
+    return vol, mom / vol
+
+
+def buoyancy(vertices, triangles, braces, brace_slices: int = BRACE_SLICES, *, position, attitude, rho_w: float,
+             g: float, level: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """(force [N], moment about ``position`` (the CG) [N m], submerged volume [m^3]) of the buoyancy
+    rho_w g V of hull mesh and braces, acting at their combined centre of buoyancy."""
+    vol, cob = submerged(vertices, triangles, braces, brace_slices, position=position, attitude=attitude,
+                         level=level)
+    if vol <= 0.0:
+        return np.zeros(3), np.zeros(3), 0.0
+    f = np.array([0.0, 0.0, rho_w * g * vol])
+    return f, np.cross(cob - position, f), vol
