@@ -5,11 +5,12 @@ import math
 import numpy as np
 import pytest
 
+from pice.physics.contact import ContactLaw
 from pice.kernels.geometry import rotation_matrix
 from pice.platform.hull_contact import build_triangle_grid, hull_forces
 from pice.platform.hulls import box
 
-PARAMS = np.array([1e7, 5e6, 0.0, 0.3])  # kn [N/m], kt [N/m], zeta, mu
+PARAMS = ContactLaw(kn=1e7, kt=5e6, zeta=0.0, mu=0.3)  # [N/m], [N/m], -, -
 
 
 def _setup(n, pose, xs, r=0.5, vs=None):
@@ -84,4 +85,4 @@ def test_hull_velocity_counts_in_the_damping_and_friction():
     verts, tris, grid, x, v = _setup(1, spin, [[0.0, 2.0, 2.49]])
     force, _, _, _ = _call(x, v, spin, verts, tris, grid, hist=np.zeros((1, 3)))
     assert force[0, 0] < 0.0  # surface moves along -x at (0, 2): omega x r = (0,0,0.1) x (0,2,2) -> -0.2 x
-    assert params[3] * force[0, 2] >= abs(force[0, 0])
+    assert params.mu * force[0, 2] >= abs(force[0, 0])

@@ -41,7 +41,7 @@ def test_drifting_sheet_keeps_every_particle_and_bond(comm):
         "parallel": {"domain": [[0.0, 0.0], [30.0, 6.0]], "balance_every": 0},
     })
     sim = Simulation(job, comm=comm)
-    assert sim.decomp.px == 2 and sim.decomp.box(0)[1] == pytest.approx(15.0)
+    assert sim.domain.decomp.px == 2 and sim.domain.decomp.box(0)[1] == pytest.approx(15.0)
     n0 = comm.sum(sim.p.nlocal)
     b0 = comm.sum(sim.p.bond_count())
     all_gids = np.arange(n0)
@@ -51,12 +51,12 @@ def test_drifting_sheet_keeps_every_particle_and_bond(comm):
         assert comm.sum(sim.p.nlocal) == n0
         assert comm.sum(sim.p.bond_count()) == b0
         assert np.array_equal(np.sort(_owned_gids(sim)), all_gids)  # each particle owned exactly once
-        xlo, xhi, _, _ = sim.decomp.box(comm.rank)
+        xlo, xhi, _, _ = sim.domain.decomp.box(comm.rank)
         x = sim.p.x[:sim.p.nlocal, 0]
         half_skin = 0.5 * job.parallel.skin  # owned particles may stray this far before a rebuild
         assert np.all((x >= xlo - half_skin) & (x < xhi + half_skin))
         owners_seen.add(int(comm.sum(int(sim.p.nlocal > 0) << comm.rank)))
-    assert sim.halo.rebuilds > 2
+    assert sim.domain.halo.rebuilds > 2
     # the sheet lived on rank 0 only, then on both, then on rank 1 only
     assert {1, 3, 2} <= owners_seen
 
@@ -78,7 +78,7 @@ def test_sheet_inside_one_subdomain_gets_balanced(comm):
     counts = comm.bcast(counts)
     assert sum(counts) == n0
     assert max(counts) / (n0 / 2) <= 1.1
-    assert sim.imbalance <= 1.1
+    assert sim.domain.imbalance <= 1.1
     b = comm.sum(sim.p.bond_count())
     sim.advance(50)  # keeps running with bonds across the new cut
     assert comm.sum(sim.p.bond_count()) == b

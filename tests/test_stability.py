@@ -72,7 +72,7 @@ def _true_limit(sim) -> float:
     """2 / omega_max [s] of the intact sheet's linearised bond lattice (undamped)."""
     p, dt = sim.p, sim.dt
     n = p.nlocal
-    params = sim.bond_law._replace(cn=0.0, cs=0.0, ct=0.0, cb=0.0)  # undamped stiffness only
+    params = sim.bond_term.law._replace(cn=0.0, cs=0.0, ct=0.0, cb=0.0)  # undamped stiffness only
 
     def forces(dx, dth):
         force, torque = np.zeros((n, 3)), np.zeros((n, 3))

@@ -147,8 +147,8 @@ def _write_file(sim, tmp: pathlib.Path, gid, order, parts, counters, events) -> 
         for name in PER_PARTICLE:
             g.create_dataset(name, data=np.concatenate([q[name] for q in parts])[order])
         d = f.create_group("decomposition")
-        d["x_cuts"] = sim.decomp.x_cuts
-        d["y_cuts"] = sim.decomp.y_cuts
+        d["x_cuts"] = sim.domain.decomp.x_cuts
+        d["y_cuts"] = sim.domain.decomp.y_cuts
         cg = f.create_group("counters")
         cg["broken"] = np.array([cnt[0] for cnt in counters], np.int64)
         cg["contacts"] = np.array([cnt[1] for cnt in counters], np.int64)

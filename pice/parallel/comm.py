@@ -173,3 +173,33 @@ def abort_all(code: int = 1) -> None:
 
         if MPI.Is_initialized() and MPI.COMM_WORLD.Get_size() > 1:
             MPI.COMM_WORLD.Abort(code)
+
+
+def on_root(comm, work, *, translate=None):
+    """Run ``work()`` on rank 0 only; an error it raises there is raised on every rank.
+
+    The one pattern for set-up and output done by rank 0 in a collective context: the other ranks
+    must not wait forever for a rank that failed. A ``PiceError`` travels as it is; another exception
+    passes through ``translate(exc)`` when given, which returns the PiceError to raise everywhere (or
+    None: rank 0 re-raises the original, the others a PiceError naming it). Returns ``work()``'s
+    result on rank 0, None elsewhere.
+    """
+    from ..errors import PiceError
+
+    result, error, original = None, None, None
+    if comm.rank == 0:
+        try:
+            result = work()
+        except PiceError as exc:
+            error = exc
+        except Exception as exc:
+            error = translate(exc) if translate is not None else None
+            if error is None:
+                original = exc
+                error = PiceError(f"rank 0 failed: {type(exc).__name__}: {exc}")
+    error = comm.bcast(error)
+    if original is not None:
+        raise original
+    if error is not None:
+        raise error
+    return result

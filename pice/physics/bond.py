@@ -21,7 +21,10 @@ import math
 from collections import namedtuple
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..errors import JobError
+from ..kernels.bonds import bond_energy, bond_forces
 
 
 def eq6_bond_strength(*, flexural_strength: float, thickness: float, element_diameter: float) -> float:
@@ -138,3 +141,30 @@ def bond_params_from_job(job, *, n_layers: int, spacing: float) -> BondParams:
             mu = 0.0
     return BondParams(kn=kn, ks=ks, kt=kt, kb=kb, area=A, inertia=I, polar=J, disk_radius=R,
                       normal_strength=sn, shear_strength=ss, friction=mu, damping_ratio=bond.damping_ratio)
+
+
+class BondTerm:
+    """The parallel bonds' forces and moments, and their breaking (kernels/bonds.py).
+
+    Each broken bond is counted in ``c.broken`` and logged in ``c.events`` as
+    (step, time, gid_a, gid_b, mode) with the mode of kernels.bonds.FAILURE_MODES.
+    """
+
+    name = "bonds"
+    max_events = 100_000  # bonds logged per step at most (all are counted)
+
+    def __init__(self, law: BondLaw):
+        self.law = law
+        self._events = np.zeros((self.max_events, 4), dtype=np.int64)
+
+    def add_forces(self, p, c, dt):
+        nb = bond_forces(p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.bond_j, p.bond_mate, p.bond_gid,
+                         p.bond_L0, p.bond_hist, self.law, dt, p.force, p.torque, self._events, self.max_events)
+        if nb:
+            c.broken += nb
+            for a, b, mode, _ in self._events[:min(nb, self.max_events)]:
+                c.events.append((c.step, c.time, int(a), int(b), int(mode)))
+
+    def energy(self, p) -> float:
+        """Elastic energy stored in the intact bonds of the owned elements [J] (each bond once)."""
+        return bond_energy(p.nlocal, p.gid, p.bond_gid, p.bond_hist, self.law)

@@ -11,6 +11,8 @@ from collections import namedtuple
 
 import numpy as np
 
+from ..kernels.contacts import contact_forces
+
 ContactLaw = namedtuple("ContactLaw", ["kn", "kt", "zeta", "mu"])
 ContactLaw.__doc__ = """Linear spring-dashpot with Coulomb friction: kn, kt [N/m], damping ratio zeta, friction mu."""
 
@@ -45,3 +47,18 @@ def law_records(laws) -> np.ndarray:
     for k, law in enumerate(laws):
         out[k] = tuple(law)
     return out
+
+
+class IceContactTerm:
+    """Contact between unbonded ice elements (kernels/contacts.py): sets ``c.contacts`` (the pairs in
+    contact on this rank) and ``c.contact_energy`` [J]."""
+
+    name = "ice contacts"
+
+    def __init__(self, law: ContactLaw, *, cell_size: float):
+        self.law, self.cell_size = law, cell_size
+
+    def add_forces(self, p, c, dt):
+        c.contacts, c.contact_energy = contact_forces(
+            p.nlocal, p.n, p.gid, p.x, p.v, p.w, p.radius, p.mass, p.bond_j, p.contact_gid, p.contact_stamp,
+            p.contact_hist, self.law, dt, c.step, self.cell_size, p.force, p.torque)

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import JobError
 from ..kernels.geometry import rotation_matrix
-from ..physics.contact import damping_ratio_from_restitution
+from ..physics.contact import contact_law
 from .catenary import Segment
 from .hull_buoyancy import submerged
 from .hull_contact import Hull, build_triangle_grid, hull_forces
@@ -57,13 +57,12 @@ def hull_mesh(job, k: int, base_dir=None) -> tuple[np.ndarray, np.ndarray]:
 
 def hulls_from_job(job, *, default_kn: float, reach: float, base_dir=None) -> list[Hull]:
     """Contact geometry of every body; ``reach`` [m] is the largest ice radius."""
-    zeta = damping_ratio_from_restitution(job.contact.restitution)
     out = []
     for k, body in enumerate(job.bodies):
         v, t = hull_mesh(job, k, base_dir)
         kn = body.normal_stiffness if body.normal_stiffness is not None else default_kn
-        params = np.array([kn, job.contact.stiffness_ratio * kn, zeta, body.friction])
-        out.append(Hull(body.name, v, t, build_triangle_grid(v, t, reach=reach), params))
+        law = contact_law(job, kn=kn, friction=body.friction)
+        out.append(Hull(body.name, v, t, build_triangle_grid(v, t, reach=reach), law))
     return out
 
 
@@ -81,12 +80,11 @@ def refuse_initial_overlap(job, p, hulls: list[Hull], poses: np.ndarray) -> None
     Called on the whole sheet, before it is distributed."""
     for k, h in enumerate(hulls):
         f, t = np.zeros((p.n, 3)), np.zeros((p.n, 3))
-        params = h.params.copy()
-        params[1:] = 0.0  # elastic normal force only
+        elastic = h.law._replace(kt=0.0, zeta=0.0, mu=0.0)  # elastic normal force only
         pose = poses[k].copy()
         pose[7:] = 0.0
         hull_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, pose,
-                    h.vertices, h.triangles, *h.grid, params, np.zeros((p.n, 3)), 0.0, f, t)
+                    h.vertices, h.triangles, *h.grid, elastic, np.zeros((p.n, 3)), 0.0, f, t)
         n_el = int(np.count_nonzero(np.abs(f).sum(axis=1) > 0))
         if n_el:
             raise JobError(f"{job.source}: bodies[{k}] ({h.name}): its hull overlaps {n_el} ice element(s) at "

@@ -2,13 +2,13 @@
 
 Each rank evaluates its own ice against every body: a particle is taken to the body frame, the
 triangles registered in its grid cell are searched for the closest point, and if that point is
-nearer than the radius a linear spring-dashpot normal force with a tangential spring and Coulomb
-friction acts (the same law as the fixed walls). The reaction on the body (force, and moment
+nearer than the radius the shared contact law acts (kernels/contact_law.py, as for walls and
+ice-ice contacts). The reaction on the body (force, and moment
 about its centre of gravity) is summed for the rank-0 reduction.
 
 The triangle grid (body frame): origin (3,), cell size, dims (3,), cell_start (ncell+1,),
 cell_tris: triangles whose bounding box, grown by the largest radius, overlaps each cell.
-params: kn [N/m], kt [N/m], zeta, mu.
+law: physics.contact.ContactLaw (kn, kt [N/m], zeta, mu).
 
 ``hull_forces`` is a numba kernel (a pure function of arrays and scalars: no MPI, no I/O), run by
 every rank on its own ice; ``Hull`` and ``build_triangle_grid`` set it up (platform.build).
@@ -21,7 +21,9 @@ import numpy as np
 from numba import njit
 
 from ..kernels import JIT
+from ..kernels.contact_law import normal_force, tangential_force
 from ..kernels.geometry import closest_point_on_triangle, rotation_matrix
+from ..physics.contact import ContactLaw
 
 
 @dataclass
@@ -32,7 +34,7 @@ class Hull:
     vertices: np.ndarray      # (nv, 3) [m]
     triangles: np.ndarray     # (nt, 3)
     grid: tuple               # build_triangle_grid
-    params: np.ndarray        # (4,) kn [N/m], kt [N/m], zeta, mu
+    law: ContactLaw           # the ice-hull contact law (kn, kt [N/m], zeta, mu)
 
 
 def build_triangle_grid(vertices: np.ndarray, triangles: np.ndarray, *, reach: float):
@@ -59,7 +61,7 @@ def build_triangle_grid(vertices: np.ndarray, triangles: np.ndarray, *, reach: f
 
 @njit(**JIT)
 def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_origin, cell, dims, cell_start,
-                cell_tris, params, hist, dt, force, torque):
+                cell_tris, law, hist, dt, force, torque):
     """Add hull contact forces to owned particles; return the (6,) load on the body
     (force [N], moment about its CG [N m]) from this rank's ice.
 
@@ -69,7 +71,6 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
     R = rotation_matrix(pose[3:7])
     vb = pose[7:10]
     om = pose[10:13]
-    kn, kt, zeta, mu = params[0], params[1], params[2], params[3]
     load = np.zeros(6)
     pb = np.empty(3)
     cp = np.empty(3)
@@ -120,20 +121,10 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
         u1 = v[i, 1] + w[i, 2] * (-r * n0) - w[i, 0] * (-r * n2) - (vb[1] + om[2] * a0 - om[0] * a2)
         u2 = v[i, 2] + w[i, 0] * (-r * n1) - w[i, 1] * (-r * n0) - (vb[2] + om[0] * a1 - om[1] * a0)
         un = u0 * n0 + u1 * n1 + u2 * n2
-        fn = kn * delta - 2.0 * zeta * math.sqrt(mass[i] * kn) * un
-        if fn < 0.0:
-            fn = 0.0
+        fn = normal_force(law.kn, law.zeta, mass[i], delta, un)
         h = hist[i]
-        dn = h[0] * n0 + h[1] * n1 + h[2] * n2
-        h[0] -= dn * n0 + kt * (u0 - un * n0) * dt
-        h[1] -= dn * n1 + kt * (u1 - un * n1) * dt
-        h[2] -= dn * n2 + kt * (u2 - un * n2) * dt
-        hm = math.sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2])
-        if hm > mu * fn:
-            sc = mu * fn / hm
-            h[0] *= sc
-            h[1] *= sc
-            h[2] *= sc
+        h[0], h[1], h[2], _ = tangential_force(h[0], h[1], h[2], n0, n1, n2, u0, u1, u2, un, law.kt, dt,
+                                               law.mu * fn)
         f0, f1, f2 = fn * n0 + h[0], fn * n1 + h[1], fn * n2 + h[2]
         force[i, 0] += f0
         force[i, 1] += f1
@@ -148,3 +139,23 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
         load[4] -= a2 * f0 - a0 * f2
         load[5] -= a0 * f1 - a1 * f0
     return load
+
+
+class HullContactTerm:
+    """Contact of this rank's ice with every hull (``hull_forces``), at the poses rank 0 broadcast.
+
+    ``poses`` (n_bodies, 13) is set by the simulation before each evaluation; after it ``loads``
+    (n_bodies, 6) holds this rank's ice load on each body: force [N] and moment about its CG [N m].
+    """
+
+    name = "hull contact"
+
+    def __init__(self, hulls: list[Hull]):
+        self.hulls = hulls
+        self.poses = np.zeros((len(hulls), 13))
+        self.loads = np.zeros((len(hulls), 6))
+
+    def add_forces(self, p, c, dt):
+        for k, h in enumerate(self.hulls):
+            self.loads[k] = hull_forces(p.nlocal, p.x, p.v, p.w, p.radius, p.mass, self.poses[k], h.vertices,
+                                        h.triangles, *h.grid, h.law, p.hull_hist[:, k, :], dt, p.force, p.torque)

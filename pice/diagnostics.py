@@ -1,0 +1,62 @@
+"""What a simulation reports: its energy budget, the series row, and the facts `pice check` prints.
+
+Each function reads a Simulation and returns plain numbers; those that reduce over ranks are
+collective (every rank calls them, every rank gets the totals).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+ENERGY_NAMES = ("kinetic_energy", "rotational_energy", "gravity_energy", "buoyancy_energy", "bond_energy",
+                "contact_energy", "wall_energy")
+
+
+def energies(sim) -> dict[str, float]:
+    """Energy budget [J] of the ice, summed over the ranks (collective), and its total."""
+    p, n = sim.p, sim.p.nlocal
+    ke = 0.5 * float(np.sum(p.mass[:n] * np.einsum("ij,ij->i", p.v[:n], p.v[:n])))
+    kr = 0.5 * float(np.sum(p.inertia[:n] * np.einsum("ij,ij->i", p.w[:n], p.w[:n])))
+    pg = float(np.sum(p.mass[:n] * sim.gravity * p.x[:n, 2]))
+    pb = sim.water_term.buoyancy_energy(p) if sim.water_term is not None else 0.0
+    eb = sim.bond_term.energy(p)
+    parts = sim.comm.sum(np.array([ke, kr, pg, pb, eb, sim.c.contact_energy, sim.c.wall_energy]))
+    out = {k: float(v) for k, v in zip(ENERGY_NAMES, parts)}
+    out["total_energy"] = float(parts.sum())
+    return out
+
+
+def series_row(sim) -> dict[str, np.ndarray | float]:
+    """One row of /series (collective): counts, energies, wall loads, the drive, the bodies and lines."""
+    c = sim.c
+    counts = sim.comm.sum(np.array([sim.p.bond_count(), c.broken, c.contacts], dtype=np.float64))
+    row = dict(time=c.time, step=float(c.step), bonds=counts[0], broken_bonds=counts[1], contacts=counts[2])
+    row.update(energies(sim))
+    loads = sim.wall_loads()
+    if loads is not None:
+        row["wall_force"] = loads[:, :3]
+        row["wall_moment"] = loads[:, 3:]
+    if sim.boundary_term is not None:  # the far field's push on the sheet [N]
+        row["boundary_force"] = sim.comm.sum(sim.boundary_term.force)
+    if sim.platform is not None:
+        from .platform.output import series_entries
+
+        row.update(series_entries(sim.platform, sim.body_total, sim.peaks.take()))
+    return row
+
+
+def describe(sim) -> dict:
+    """Facts for `pice check` and the run file's attributes (collective)."""
+    p, b, limit = sim.p, sim.bond, sim.limit
+    nbytes = sum(a.nbytes for a in vars(p).values() if isinstance(a, np.ndarray))
+    out = dict(elements=int(sim.comm.sum(p.nlocal)), bonds=int(sim.comm.sum(p.bond_count())),
+               layers=sim.sheet.n_layers, thickness_modelled=sim.sheet.actual_thickness, memory_bytes=nbytes,
+               dt_stable=limit.stable, dt=sim.dt, dt_safety=limit.safety, dt_governed_by=limit.governed_by,
+               steps_per_second=1.0 / sim.dt, bond_kn=b.kn, bond_ks=b.ks, bond_kb=b.kb, bond_kt=b.kt,
+               normal_strength=b.normal_strength, shear_strength=b.shear_strength, bond_friction=b.friction,
+               element_mass=float(p.mass[0]))
+    if sim.platform is not None:
+        from .platform.output import describe as describe_platform
+
+        out.update(describe_platform(sim.platform, sim.dt))
+    return out

@@ -1,0 +1,92 @@
+"""The domain of one rank: its subdomain of the decomposition, its halo, and keeping both current.
+
+The ice is cut in x-y into one subdomain per rank (decomposition.py). Each step the ghosts are
+refreshed (halo.py): their positions and velocities only, or a full migration and rebuild when some
+particle has moved half the skin; every ``balance_every`` steps the cuts move when the ranks'
+particle counts drift apart (balance.py).
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from .balance import imbalance, rebalanced
+from .decomposition import Decomposition, uniform
+from .halo import Halo
+
+log = logging.getLogger("pice")
+
+
+def ghost_width(p, bond, skin: float) -> float:
+    """Halo width [m]: the contact reach or the longest bond at its breaking stretch, plus the skin.
+
+    p: the whole sheet's particles (as every rank builds it); bond: physics.bond.BondParams.
+    """
+    reach = 2.0 * float(p.radius.max())
+    longest = float(p.bond_L0.max()) if p.bond_L0.size else 0.0
+    if np.isfinite(bond.normal_strength):
+        longest += bond.normal_strength * bond.area / bond.kn  # stretch at which tension alone breaks it
+    else:
+        longest *= 1.5  # unbreakable bonds: allow 50 % stretch; the run checks it
+    return max(reach, longest) + skin
+
+
+class Domain:
+    """The decomposition and halo of one rank, and the exchanges of the step."""
+
+    def __init__(self, comm, parallel, *, ghost_width: float):
+        """parallel: the job's [parallel] section (skin, balance_every, imbalance_threshold, domain)."""
+        self.comm, self.parallel, self.ghost_width = comm, parallel, ghost_width
+        self.decomp: Decomposition | None = None
+        self.halo: Halo | None = None
+        self.imbalance = 1.0
+
+    def distribute(self, p) -> None:
+        """Decompose the whole sheet ``p`` over the ranks, keep this rank's part, build the halo."""
+        par = self.parallel
+        if par.domain is not None:
+            lo, hi = par.domain
+        else:
+            lo, hi = tuple(p.x[:, :2].min(axis=0)), tuple(p.x[:, :2].max(axis=0))
+        self.decomp = uniform(self.comm.size, lo=lo, hi=hi)
+        self.halo = Halo(self.comm, self.decomp, ghost_width=self.ghost_width, skin=par.skin)
+        if self.comm.size > 1:
+            mine = np.nonzero(self.decomp.owner(p.x[:, 0], p.x[:, 1]) == self.comm.rank)[0]
+            p.replace_rows([p.rows(mine)], len(mine))
+        self.halo.rebuild(p)
+
+    def adopt(self, p, decomp: Decomposition) -> None:
+        """Take ``decomp`` (from a checkpoint) for particles ``p`` already placed on their ranks."""
+        self.decomp = decomp
+        self.halo = Halo(self.comm, decomp, ghost_width=self.ghost_width, skin=self.parallel.skin)
+        self.halo.rebuild(p)
+
+    def exchange(self, p, step: int) -> None:
+        """After the drift: rebalance on schedule, else rebuild the halo if needed, else update ghosts."""
+        every = self.parallel.balance_every
+        if self.comm.size > 1 and every and step % every == 0 and self.rebalance(p, step):
+            return
+        if self.halo.needs_rebuild(p):
+            self.halo.rebuild(p)
+        else:
+            self.halo.update(p)
+
+    def rebalance(self, p, step: int) -> bool:
+        """Move the cuts if max/mean particles per rank exceeds the threshold; True if it did (and rebuilt)."""
+        self.imbalance = imbalance(self.comm, p.nlocal)
+        if self.imbalance <= self.parallel.imbalance_threshold:
+            return False
+        self.decomp = rebalanced(self.comm, self.decomp, p.x[:p.nlocal])
+        self.halo.decomp = self.decomp
+        self.halo.rebuild(p)
+        after = imbalance(self.comm, p.nlocal)
+        if self.comm.rank == 0:
+            log.info("step %d: load balance %.3f -> %.3f (max/mean particles per rank)", step, self.imbalance, after)
+        self.imbalance = after
+        return True
+
+    def rebuild(self, p) -> None:
+        """Migrate and rebuild the ghosts now (as a restart from a checkpoint of this step does)."""
+        self.halo.rebuild(p)
