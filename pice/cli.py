@@ -30,16 +30,17 @@ def _summary_lines(summary: dict, job) -> list[str]:
              f"  wall time     {summary['wall_time']:.1f} s, "
              f"{summary['particle_steps_per_second']:.3g} particle-steps/s",
              f"  broken bonds  {summary['broken_bonds']:,}"]
-    try:  # peak loads from the recorded series rows
-        import h5py
-        import numpy as np
+    import numpy as np
 
-        with h5py.File(out, "r") as f:
-            force = f["series/wall_force"][()] if "series/wall_force" in f else np.zeros((0, 0, 3))
-            time = f["series/time"][()] if "series/time" in f else np.zeros(0)
-    except (OSError, KeyError):
+    from .io.errors import RunFileError
+    from .io.run_reader import open_run
+
+    try:  # peak loads from the recorded series rows
+        with open_run(out) as run:
+            force, time = run.series("wall_force"), run.series("time")
+    except (RunFileError, OSError):
         return lines
-    if force.size and len(time) == len(force):
+    if force is not None and time is not None and force.size and len(time) == len(force):
         mag = np.linalg.norm(force, axis=2)
         names = [w.name or f"wall{k}" for k, w in enumerate(job.walls)]
         for k in range(mag.shape[1]):
@@ -100,11 +101,9 @@ def _cmd_export(args) -> int:
               file=sys.stderr)
         return 2
     if args.xdmf:
-        from .io.vtk_export import open_run
         from .io.xdmf import write_xdmf
 
-        open_run(args.run).h5.close()  # a clear error for a missing or unreadable run file
-        print(f"pice: wrote {write_xdmf(args.run)}")
+        print(f"pice: wrote {write_xdmf(args.run)}")  # RunFileError for a missing or unreadable run file
     if args.vtk:
         from .io.vtk_export import export_vtk
 
@@ -114,17 +113,16 @@ def _cmd_export(args) -> int:
 
 
 def _cmd_plot(args) -> int:
-    import h5py
-
-    from postproc.plots import default_out_dir, plot_run
+    from .io.run_reader import open_run
+    from .postproc.plots import default_out_dir, plot_run
 
     out = pathlib.Path(args.out) if args.out else default_out_dir(args.run)
     written = plot_run(args.run, out)  # a missing or unreadable run file stops here
     if not args.no_render:
-        with h5py.File(args.run, "r") as f:
-            has_snapshots = len(f.get("snapshots", ())) > 0
+        with open_run(args.run) as run:
+            has_snapshots = bool(run.snapshots)
         if has_snapshots:
-            from postproc.render import render_snapshot
+            from .postproc.render import render_snapshot
 
             written.append(render_snapshot(args.run, out / f"render_{args.color_by}.png", snapshot=args.snapshot,
                                            color_by=args.color_by))
@@ -136,7 +134,7 @@ def _cmd_plot(args) -> int:
 
 def _cmd_study(args) -> int:
     from .study import run_study
-    from .study_report import study_table
+    from .study.report import study_table
 
     study = run_study(args.job, args.vary, out_dir=args.out, reference=args.reference, settle=args.settle)
     if study is not None:  # rank 0

@@ -1,144 +1,19 @@
-"""Run a job to the end: the time loop with its output schedule and progress line.
+"""Run a job to the end: the time loop with its output schedule, checkpoints, stop requests and
+progress line.
 
-Under MPI every rank steps its part of the ice and the run file is written in one of two modes
-(io/mpio.py): by every rank through h5py's mpio driver when h5py has MPI, else by rank 0 from
-reduced series rows and gathered snapshots. The file is the same either way.
+Under MPI every rank steps its part of the ice; the run file is written by io/output.py (RunOutput:
+series rows, events, snapshots, the status at the end), in either of the two modes of io/mpio.py.
 """
 
 from __future__ import annotations
 
-import logging
 import signal
 import sys
 import time as wall
 
-import numpy as np
-
 from .errors import InstabilityError, PiceError, RunInterrupted
-from .io.mpio import MODE_ENV, choose_mode, h5py_has_mpi
-from .io.run_file import OutputError, RunFile
-from .io.xdmf import write_xdmf_quietly
+from .io.output import RunOutput, snapshot_steps
 from .simulation import Simulation
-
-
-def snapshot_steps(total_steps: int, count: int) -> set[int]:
-    """Steps at which to write snapshots: ``count`` evenly spaced, first and last included."""
-    if count <= 0:
-        return set()
-    if count == 1:
-        return {total_steps}
-    return {round(k * total_steps / (count - 1)) for k in range(count)}
-
-
-class _Output:
-    """The run file. Mode "mpio": every rank holds the RunFile and writes its own part. Mode
-    "gathered": rank 0 owns the RunFile; every rank takes part in the gathers."""
-
-    def __init__(self, sim, output, job, overwrite, restart=None):
-        self.sim, self.comm = sim, sim.comm
-        self.file = None
-        # a restart continues its file serially (RunFile.open_for_restart): gathered
-        self.mode = "gathered" if restart is not None else choose_mode(self.comm)
-        if self.comm.size > 1 and self.comm.rank == 0:
-            logging.getLogger("pice").info(
-                "run file: parallel HDF5, every rank writes through the mpio driver" if self.mode == "mpio" else
-                "run file: gathered to rank 0 and written there (" + (
-                    "a restart continues its file that way)" if restart is not None else
-                    f"{MODE_ENV}=gathered)" if h5py_has_mpi() else "this h5py has no MPI)"))
-        error = None
-        if self.mode == "mpio":  # collective; an error is raised on every rank alike
-            self.file = RunFile(output, job=job, overwrite=overwrite, ranks=self.comm.size, comm=self.comm,
-                                extra_attrs={"dt": sim.dt, "dt_stable": sim.limit.stable})
-        elif self.comm.rank == 0:
-            try:
-                if restart is not None:  # continue the run file: rows up to the checkpoint's step stay
-                    self.file = RunFile.open_for_restart(output, step=sim.c.step, job=job, ranks=self.comm.size,
-                                                         restarted_from=str(restart))
-                else:
-                    self.file = RunFile(output, job=job, overwrite=overwrite, ranks=self.comm.size,
-                                        extra_attrs={"dt": sim.dt, "dt_stable": sim.limit.stable})
-            except PiceError as exc:
-                error = exc
-        error = self.comm.bcast(error)
-        if error is not None:
-            raise error
-        self.events_written = len(sim.c.events)  # a restart's events are in the file already
-        self.snapshots_kept = self.comm.bcast(len(self.file.snapshots) if self.file else 0)
-
-    def series(self):
-        row = self.sim.series_row()  # collective
-        self.broken = int(row["broken_bonds"])  # all ranks' count, for the progress line
-        if self.mode == "mpio":  # collective
-            self.file.append_series(row)
-        else:
-            self._write(lambda: self.file.append_series(row))
-
-    def events(self):
-        new = self.sim.c.events[self.events_written:]
-        self.events_written = len(self.sim.c.events)
-        if self.mode == "mpio":  # collective: the RunFile gathers and sorts them
-            self.file.append_events(new)
-            return
-        gathered = self.comm.gather(new)
-        self._write(lambda: self.file.append_events(sorted(e for part in gathered for e in part)))
-
-    def snapshot(self, index):
-        self.sim.sync()
-        p = self.sim.p
-        n = p.nlocal
-        part = dict(gid=p.gid[:n].copy(), x=p.x[:n].copy(), v=p.v[:n].copy(), w=p.w[:n].copy(),
-                    radius=p.radius[:n].copy(), kind=p.kind[:n].copy(), bonds=p.intact_bonds())
-        extras = self.sim.platform_snapshot(first=index == 0)  # rank 0's bodies and lines (None elsewhere)
-        if self.mode == "mpio":  # collective: each rank writes its part at its gid-sorted place
-            self.file.write_snapshot_arrays(index, time=self.sim.c.time, step=self.sim.c.step, arrays=part,
-                                            extras=extras)
-            return
-        parts = self.comm.gather(part)
-        self._write(lambda: self.file.write_snapshot_arrays(
-            index, time=self.sim.c.time, step=self.sim.c.step,
-            arrays={k: np.concatenate([q[k] for q in parts]) for k in part}, extras=extras))
-
-    def _write(self, write):
-        """Every rank holding the file calls ``write`` (gathered: rank 0 only); an OutputError (a full
-        disk...) is raised on every rank, so none is left waiting in a collective."""
-        error = None
-        if self.file:
-            try:
-                write()
-            except OutputError as exc:
-                error = exc
-        if self.comm.size > 1:
-            error = self.comm.bcast(error)
-        if error is not None:
-            raise error
-
-    def checkpoint(self, path):
-        """Events and rows so far into the run file, then the checkpoint, then the rebuild a restart does."""
-        from .io.checkpoint import write_checkpoint
-
-        self.events()
-        self._write(lambda: self.file.flush())
-        write_checkpoint(self.sim, path)
-        self.sim.rebuild_for_checkpoint()
-
-    def _together(self, status) -> bool:
-        """Did every rank reach this status together (so collective file calls are safe)?"""
-        return (status in ("finished", "interrupted") or status.startswith("stopped")
-                or bool(self.file and self.file.failed))
-
-    def events_after_failure(self, status):
-        if self.mode == "gathered":
-            if self.file and not self.file.failed:  # other ranks may be gone: write what rank 0 has
-                self.file.append_events(self.sim.c.events[self.events_written:])
-        elif self._together(status) and not self.file.failed:
-            self.events()
-
-    def close(self, status):
-        if self.file:
-            if self.mode == "mpio" and not self._together(status):
-                self.file.abandon()  # one rank's failure: no collective call; flushed rows stay
-            else:
-                self.file.close(status)
 
 
 class _StopRequest:
@@ -201,7 +76,7 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress=sys
     total = sim.total_steps
     snaps = snapshot_steps(total, job.run.snapshots)
     every = job.run.series_every
-    out = _Output(sim, output, job, overwrite, restart=restart)
+    out = RunOutput(sim, output, job, overwrite, restart=restart)
     status = "failed"
     t0 = wall.perf_counter()
     last_report = t0
@@ -262,15 +137,7 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress=sys
         raise
     finally:
         stop.restore()
-        try:
-            if status == "finished":
-                out.events()
-            else:
-                out.events_after_failure(status)
-        finally:
-            out.close(status)
-            if comm.rank == 0:  # ParaView opens <run>.xdmf directly; a failure here only warns
-                write_xdmf_quietly(output)
+        out.finish(status)  # the last events, the status attribute, the XDMF file beside the run file
     elapsed = wall.perf_counter() - t0
     elements = int(comm.sum(sim.p.nlocal))
     broken = int(comm.sum(sim.c.broken))

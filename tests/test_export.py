@@ -194,7 +194,7 @@ def test_vtk_export_round_trip(run, capsys):
 
 
 def test_bond_damage():
-    from pice.io.vtk_export import bond_damage
+    from pice.io.run_reader import bond_damage
 
     init_gid = np.array([0, 1, 2, 3])
     init_counts = np.array([2, 2, 2, 0])
@@ -203,8 +203,8 @@ def test_bond_damage():
 
 
 def test_plots_and_render_are_non_blank_pngs(run, capsys):
-    from postproc.plots import DPI, FIGSIZE
-    from postproc.render import WINDOW_SIZE
+    from pice.postproc.plots import DPI, FIGSIZE
+    from pice.postproc.render import WINDOW_SIZE
 
     out = run.dir / "plots"
     assert main(["plot", str(run.path), "--out", str(out)]) == 0
@@ -217,7 +217,7 @@ def test_plots_and_render_are_non_blank_pngs(run, capsys):
     assert img.shape == (WINDOW_SIZE[1], WINDOW_SIZE[0], 3)
     _not_blank(img)
 
-    from postproc.render import render_snapshot
+    from pice.postproc.render import render_snapshot
 
     small = render_snapshot(run.path, out / "first_damage.png", snapshot=0, color_by="damage", window_size=(400, 300))
     img = _png(small)

@@ -27,7 +27,8 @@ from launcher import clean_env as _clean_env
 
 from pice.io import mpio
 from pice.io.mpio import MODE_ENV, choose_mode, h5py_has_mpi
-from pice.io.run_file import OutputError, RunFile
+from pice.io.errors import OutputError
+from pice.io.run_file import RunFile
 from pice.parallel.comm import SerialComm, world
 
 from test_parallel_contract import contract_job

@@ -25,8 +25,8 @@ from pice.cli import main
 from pice.errors import JobError
 from pice.io.toml_text import toml_text
 from pice.job import load_job, parse_job
-from pice.study import key_path, make_variants, parse_vary, split_values, toml_value
-from pice.study_report import change_percent, compare, run_metrics
+from pice.study.metrics import change_percent, compare, run_metrics
+from pice.study.variants import key_path, make_variants, parse_vary, split_values, toml_value
 
 try:
     import tomllib

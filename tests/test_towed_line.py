@@ -1,8 +1,8 @@
-"""Towed-line test of Zhu & Ji (2022), section 2.3 and Table 2, in CI: benchmarks/towed_line.py for
+"""Towed-line test of Zhu & Ji (2022), section 2.3 and Table 2, in CI: pice/scenes/towed_line.py for
 10 and 20 elements (top end in surge, 75 mm amplitude, 1.58 s period, fresh water; statistics over
 the last three of six periods) and its plot.
 
-References (benchmarks/towed_line.static_reference, pice.physics.catenary.solve_line on a rigid,
+References (pice.scenes.towed_line.static_reference, pice.platform.catenary.solve_line on a rigid,
 frictionless tank floor), for Table 2's line (wet weight w = 1.381 N/m, 10.09 N in water):
   T_static = 5.892 N   top tension with the top at its mean position (6.97 m, 1.2 m);
   T_qs     = 6.271 N   cycle mean of the static top tension as the top moves 6.97 +- 0.075 m;
@@ -15,15 +15,11 @@ T_max 28.52 / 13.72 N, marker range 143.6 / 147.6 mm for 10 / 20 elements; about
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from towed_line import LENGTH, line_segment, plot, run, static_reference
-
-from pice.physics.catenary import Segment, solve_line
+from pice.platform.catenary import Segment, solve_line
+from pice.postproc.towed_line import plot_towed_line
+from pice.scenes.towed_line import LENGTH, line_segment, run, static_reference
 
 ELEMENTS = (10, 20)
 T_MAX_RECORDED = {10: 28.5, 20: 13.7}  # [N] the study's summary (benchmarks/towed_line.py --elements 10,20)
@@ -47,7 +43,7 @@ def test_towed_line_plot_is_a_png(study, tmp_path):
     """--plot's figure (both element counts, tension and marker traces) is written as a PNG."""
     results, _ = study
     out = tmp_path / "towed.png"
-    plot([results[n] for n in ELEMENTS], out)
+    plot_towed_line([results[n] for n in ELEMENTS], out)
     assert out.is_file() and out.stat().st_size > 0
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 

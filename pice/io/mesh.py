@@ -1,4 +1,8 @@
-"""Triangle meshes read with meshio (STL, OBJ, VTU, PLY, ...)."""
+"""Triangle meshes read with meshio (STL, OBJ, VTU, PLY, ...): the one place a mesh file is read.
+
+Wall meshes (physics/walls.py, and the export through io/run_reader.py) and hull meshes (the
+bodies' set-up) call ``read_triangle_mesh`` and word its ValueError for the key that named the file.
+"""
 
 from __future__ import annotations
 
@@ -10,10 +14,15 @@ import warnings
 import numpy as np
 
 
+class NoTrianglesError(ValueError):
+    """The file was read but holds no triangle cells."""
+
+
 def read_triangle_mesh(path: str | pathlib.Path) -> tuple[np.ndarray, np.ndarray]:
     """(vertices (nv, 3) [m], triangles (nt, 3) int64) of a meshio-readable file.
 
-    Raises ValueError with a one-line reason when the file cannot be read or holds no triangles.
+    Raises ValueError with a one-line reason when the file cannot be read, NoTrianglesError (a
+    ValueError) when it holds no triangles.
     """
     import meshio
 
@@ -28,5 +37,5 @@ def read_triangle_mesh(path: str | pathlib.Path) -> tuple[np.ndarray, np.ndarray
                          or type(exc).__name__) from None
     tris = [block.data for block in mesh.cells if block.type == "triangle"]
     if not tris:
-        raise ValueError("no triangles in it")
+        raise NoTrianglesError("no triangles in it")
     return np.asarray(mesh.points[:, :3], float), np.vstack(tris).astype(np.int64)

@@ -25,6 +25,8 @@ import h5py
 import numpy as np
 from h5py import h5fd, h5p, h5s
 
+from .errors import OutputError
+
 MODE_ENV = "PICE_HDF5_MODE"
 
 
@@ -37,15 +39,11 @@ def choose_mode(comm) -> str:
     """The write mode of a run on ``comm``: "mpio" or "gathered" (the same on every rank)."""
     want = os.environ.get(MODE_ENV, "auto").strip().lower() or "auto"
     if want not in ("auto", "gathered", "mpio"):
-        from .run_file import OutputError
-
         raise OutputError(f"{MODE_ENV}={want!r}: expected auto, gathered or mpio")
     if comm.size == 1 or want == "gathered":
         return "gathered"
     if not h5py_has_mpi():
         if want == "mpio":
-            from .run_file import OutputError
-
             raise OutputError(f"{MODE_ENV}=mpio, but this h5py has no MPI support (it was not built against "
                               "a parallel HDF5); build an environment that has it with "
                               "`bash mpi/setup_parallel_hdf5.sh`, or unset " + MODE_ENV)

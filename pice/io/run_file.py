@@ -12,6 +12,7 @@ Layout::
     /events/broken_bonds  (k,5) float64 rows: step, time, gid_a, gid_b, mode (1 tension/bending, 2 shear)
 
 Rows are flushed as they are written, so a run that stops keeps everything recorded until then.
+During a run io/output.py drives this writer; io/run_reader.py reads the file back.
 
 Parallel runs write the same file in one of two modes (io/mpio.py): every rank through h5py's
 ``mpio`` driver when h5py has MPI, else rank 0 alone from gathered arrays. A write that fails (a
@@ -35,21 +36,10 @@ import h5py
 import numpy as np
 
 from .. import __version__
-from ..errors import PiceError
+from .errors import OutputError
+from .mpio import RUNS_DIRECT, count_runs, placement, to_blocks, write_rows
 
 UNITS = "SI: m, s, kg, N, N m, J, Pa; angles in rad"
-
-
-class OutputError(PiceError):
-    """The run file cannot be created or written. Exit status 4.
-
-    ``hard_exit``: a write failed inside HDF5, which then can neither flush nor close the file and
-    crashes when the process ends (HDF5 1.10 and 2.0 alike); the command line ends the process
-    with os._exit after the message. Everything flushed before the failure is in the file.
-    """
-
-    exit_code = 4
-    hard_exit = False
 
 
 #: bytes that must stay free beyond a write's own data: the HDF5 metadata flushed with it. Checked
@@ -318,8 +308,6 @@ class RunFile:
 
     def _write_snapshot_mpio(self, index: int, *, time: float, step: int, arrays: dict,
                              extras: dict | None = None) -> None:
-        from .mpio import RUNS_DIRECT, count_runs, placement, to_blocks, write_rows
-
         comm = self.comm
         gid = np.asarray(arrays["gid"])
         bonds = np.asarray(arrays["bonds"]).reshape(-1, 2)

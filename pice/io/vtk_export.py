@@ -13,165 +13,20 @@
 
 Blocks are plain functions in two tables, ``SNAPSHOT_BLOCKS`` (one file per snapshot) and
 ``STATIC_BLOCKS`` (one file per run): a new kind of output is one more entry with a builder
-returning a ``meshio.Mesh`` or None when the run has none.
+returning a ``meshio.Mesh`` or None when the run has none. The run file is read through
+io/run_reader.py.
 """
 
 from __future__ import annotations
 
-import logging
 import os
 import pathlib
-import sys
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass, field
 
-import h5py
 import numpy as np
 
-from ..errors import PiceError
-from .run_file import OutputError
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
-
-log = logging.getLogger("pice")
-
-
-class RunFileError(PiceError):
-    """The run file to post-process cannot be read. Exit status 5."""
-
-    exit_code = 5
-
-
-# ------------------------------------------------------------------------------------------------
-# Reading a run file
-
-
-@dataclass
-class Run:
-    """An open run file with what every block builder needs (use as a context manager)."""
-
-    path: pathlib.Path
-    h5: h5py.File
-    snapshots: list[str]                 # group names under /snapshots, in order
-    job: object = None                   # pice.job.Job parsed from the job_text attribute, or None
-    job_dir: pathlib.Path | None = None  # where the job's relative paths (mesh walls) resolve
-    wall_index: list = field(default_factory=list)  # [[walls]] index of each of job.walls
-    _initial: tuple | None = field(default=None, repr=False)
-    _extent: np.ndarray | None = field(default=None, repr=False)
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *_):
-        self.h5.close()
-
-    def snapshot(self, key: str | int) -> h5py.Group:
-        return self.h5["snapshots"][self.snapshots[key] if isinstance(key, int) else key]
-
-    def time(self, key) -> float:
-        return float(self.snapshot(key).attrs["time"])
-
-    def wall_names(self) -> list[str]:
-        """Name of each [[walls]] entry (as the series' wall axis), from the job text."""
-        if not self.h5.attrs.get("job_text", ""):
-            return []
-        walls = tomllib.loads(self.h5.attrs["job_text"]).get("walls", ())
-        return [w.get("name") or f"wall{k}" for k, w in enumerate(walls)]
-
-    def initial_bond_counts(self) -> tuple[np.ndarray, np.ndarray]:
-        """(gid, number of bonds) per element in the first snapshot: the element's initial bonds."""
-        if self._initial is None:
-            g = self.snapshot(0)
-            gid = g["gid"][()]
-            self._initial = (gid, bond_counts(gid, g["bonds"][()]))
-        return self._initial
-
-    def damage(self, key) -> np.ndarray:
-        """Per element of snapshot ``key``: the fraction of its initial bonds that are broken."""
-        g = self.snapshot(key)
-        gid = g["gid"][()]
-        return bond_damage(gid, g["bonds"][()], *self.initial_bond_counts())
-
-    def ice_extent(self) -> np.ndarray:
-        """(2,3) bounding box of the ice over the first and last snapshots."""
-        if self._extent is None:
-            xs = [self.snapshot(k)["x"][()] for k in {0, len(self.snapshots) - 1}]
-            xs = np.concatenate([x for x in xs if len(x)]) if any(len(x) for x in xs) else np.zeros((1, 3))
-            self._extent = np.array([xs.min(axis=0), xs.max(axis=0)])
-        return self._extent
-
-
-def open_run(path: str | os.PathLike) -> Run:
-    """Open a run file for reading; raise RunFileError with a clear message if it cannot be read."""
-    path = pathlib.Path(path)
-    if not path.is_file():
-        raise RunFileError(f"{path}: no such run file (give the .h5 written by `pice run`)")
-    try:
-        h5 = h5py.File(path, "r")
-    except OSError as exc:
-        raise RunFileError(f"{path}: not a readable HDF5 run file ({exc})") from None
-    snaps = sorted(h5["snapshots"]) if "snapshots" in h5 else []
-    run = Run(path=path, h5=h5, snapshots=snaps)
-    run.job, run.job_dir, run.wall_index = _job_of(h5, path)
-    return run
-
-
-def _job_of(h5: h5py.File, run_path: pathlib.Path):
-    """The job stored in the run file, parsed again, the folder its relative paths resolve in, and
-    the [[walls]] index of each of its walls: a mesh wall whose file is not found is left out (with
-    a warning) so the rest still exports."""
-    from ..job import parse_job
-
-    text = h5.attrs.get("job_text", "")
-    if not text:
-        return None, None, []
-    source = str(h5.attrs.get("job_source", "<job>"))
-    data = tomllib.loads(text)
-    src = pathlib.Path(source)
-    candidates = [src.parent] if src.is_absolute() else [src.parent, run_path.parent / src.parent, run_path.parent]
-    walls = list(data.get("walls", ()))
-    meshes = [w.get("file", "") for w in walls if w.get("type") == "mesh"]
-    base = next((c for c in candidates if all((c / m).is_file() for m in meshes)), candidates[0])
-    index = []
-    for k, w in enumerate(walls):
-        if w.get("type") == "mesh" and not (base / w.get("file", "")).is_file():
-            log.warning("%s: walls[%d].file = %r not found beside the job %s: that wall is left out",
-                        run_path, k, w.get("file"), source)
-        else:
-            index.append(k)
-    data["walls"] = [walls[k] for k in index]
-    return parse_job(data, source=source, text=text, base_dir=base), base, index
-
-
-# ------------------------------------------------------------------------------------------------
-# Derived fields
-
-
-def bond_counts(gid: np.ndarray, bonds: np.ndarray) -> np.ndarray:
-    """Number of intact bonds of each element (``gid`` sorted; ``bonds`` (m,2) gid pairs)."""
-    if len(gid) == 0:
-        return np.zeros(0, np.int64)
-    idx = np.searchsorted(gid, np.asarray(bonds, np.int64).reshape(-1))
-    return np.bincount(idx, minlength=len(gid)).astype(np.int64)
-
-
-def bond_damage(gid, bonds, initial_gid, initial_counts) -> np.ndarray:
-    """Fraction of each element's initial bonds that are broken (0 for an element that had none)."""
-    now = bond_counts(gid, bonds)
-    idx = np.searchsorted(initial_gid, gid)
-    idx = np.minimum(idx, max(len(initial_gid) - 1, 0))
-    init = np.where((len(initial_gid) > 0) & (initial_gid[idx] == gid), initial_counts[idx], 0) if len(gid) else now
-    with np.errstate(invalid="ignore", divide="ignore"):
-        dmg = np.where(init > 0, 1.0 - now / np.maximum(init, 1), 0.0)
-    return np.clip(dmg, 0.0, 1.0)
-
-
-def bond_point_indices(gid: np.ndarray, bonds: np.ndarray) -> np.ndarray:
-    """(m,2) bonds as indices into the snapshot's (gid-sorted) arrays."""
-    return np.searchsorted(gid, np.asarray(bonds, np.int64).reshape(-1, 2)).astype(np.int64)
+from .errors import OutputError, RunFileError
+from .run_reader import Run, bond_damage, bond_point_indices, open_run
 
 
 # ------------------------------------------------------------------------------------------------
@@ -192,41 +47,10 @@ def ice_block(run: Run, key: str):
     return meshio.Mesh(g["x"][()], cells, point_data=point_data)
 
 
-def wall_triangles(run: Run) -> tuple[np.ndarray, np.ndarray]:
-    """(k,3,3) triangles of the job's walls and (k,) the index of the [[walls]] entry of each."""
-    from ..physics.walls import _read_mesh
-
-    job = run.job
-    if job is None or not job.walls:
-        return np.zeros((0, 3, 3)), np.zeros(0, np.int64)
-    box = run.ice_extent()
-    corners = np.array([[box[i, 0], box[j, 1], box[k, 2]] for i in (0, 1) for j in (0, 1) for k in (0, 1)])
-    tris, owner = [], []
-    for wall, k in zip(job.walls, run.wall_index):
-        if wall.type == "plane":
-            p = np.asarray(wall.point, float)
-            nrm = np.asarray(wall.normal, float)
-            nrm /= np.linalg.norm(nrm)
-            a = np.array([1.0, 0.0, 0.0]) if abs(nrm[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-            u = np.cross(nrm, a)
-            u /= np.linalg.norm(u)
-            w = np.cross(nrm, u)
-            h = max(float(np.max(np.linalg.norm(corners - p, axis=1))), 1.0)
-            c = [p + h * (su * u + sw * w) for su, sw in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
-            new = [np.array([c[0], c[1], c[2]]), np.array([c[0], c[2], c[3]])]
-        elif wall.type == "triangle":
-            new = [np.asarray(wall.vertices, float)]
-        else:
-            new = _read_mesh(run.job_dir or pathlib.Path("."), wall.file, job.source, k)
-        tris += new
-        owner += [k] * len(new)
-    return np.asarray(tris, float).reshape(-1, 3, 3), np.asarray(owner, np.int64)
-
-
 def walls_block(run: Run):
     import meshio
 
-    tris, owner = wall_triangles(run)
+    tris, owner = run.wall_triangles()
     if not len(tris):
         return None
     return meshio.Mesh(tris.reshape(-1, 3), [("triangle", np.arange(3 * len(tris)).reshape(-1, 3))],
@@ -237,7 +61,7 @@ def bodies_block(run: Run, key: str):
     """Every hull at its pose of this snapshot (triangles), cell data ``body`` = its [[bodies]] index."""
     import meshio
 
-    from ..kernels.hull import transform
+    from ..platform.hull_buoyancy import transform
     from ..kernels.geometry import rotation_matrix
 
     g, first = run.snapshot(key), run.snapshot(0)

@@ -24,7 +24,8 @@ import xml.etree.ElementTree as ET
 
 import h5py
 
-from .run_file import OutputError
+from .errors import OutputError
+from .run_reader import open_run
 
 # (dataset, attribute name, XDMF AttributeType) on the particles
 _ATTRIBUTES = (("radius", "radius", "Scalar"), ("v", "velocity", "Vector"),
@@ -93,14 +94,13 @@ def write_xdmf(run_h5_path: str | os.PathLike) -> pathlib.Path:
     bonds = ET.SubElement(domain, "Grid", Name="bonds", GridType="Collection", CollectionType="Temporal")
     ice = ET.SubElement(domain, "Grid", Name="ice", GridType="Collection", CollectionType="Temporal")
     try:
-        with h5py.File(run, "r") as f:
-            snaps = f.get("snapshots", {})
-            for key in sorted(snaps):
-                g = snaps[key]
+        with open_run(run) as f:  # RunFileError (exit status 5) for a missing or unreadable file
+            for key in f.snapshots:
+                g = f.snapshot(key)
                 vertices, lines = _connectivity(g)
                 _grid(bonds, f"bonds_{key}", g, run.name, "Polyline", lines, attributes=False)
                 _grid(ice, f"ice_{key}", g, run.name, "Polyvertex", vertices, attributes=True)
-    except OSError as exc:
+    except OSError as exc:  # a dataset that cannot be read
         raise OutputError(f"{run}: cannot read the run file ({exc})") from None
     ET.indent(root)
     tmp = out.with_name(out.name + ".tmp")

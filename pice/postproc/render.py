@@ -16,6 +16,9 @@ import shutil
 
 import numpy as np
 
+from ..io.errors import OutputError, RunFileError
+from ..io.run_reader import bond_point_indices, open_run
+
 WINDOW_SIZE = (1280, 800)
 COLOR_BY = ("velocity", "damage")
 
@@ -31,8 +34,6 @@ def _prefer_egl() -> None:
 
 def _scene(run, key, color_by: str):
     import pyvista as pv
-
-    from pice.io.vtk_export import bond_point_indices, wall_triangles
 
     g = run.snapshot(key)
     x = g["x"][()]
@@ -51,7 +52,7 @@ def _scene(run, key, color_by: str):
     if len(pairs):
         bonds = pv.PolyData(x, lines=np.hstack([np.full((len(pairs), 1), 2), pairs]).ravel())
     walls = None
-    tris, _ = wall_triangles(run)
+    tris, _ = run.wall_triangles()
     if len(tris):
         walls = pv.PolyData(tris.reshape(-1, 3), faces=np.hstack([np.full((len(tris), 1), 3),
                                                                   np.arange(3 * len(tris)).reshape(-1, 3)]).ravel())
@@ -87,9 +88,6 @@ def render_snapshot(run_path, out_png, *, snapshot: int = -1, color_by: str = "v
     _prefer_egl()
     import pyvista as pv
 
-    from pice.io.run_file import OutputError
-    from pice.io.vtk_export import RunFileError, open_run
-
     if color_by not in COLOR_BY:
         raise ValueError(f"color_by must be one of {COLOR_BY}, not {color_by!r}")
     pv.OFF_SCREEN = True
@@ -103,7 +101,7 @@ def render_snapshot(run_path, out_png, *, snapshot: int = -1, color_by: str = "v
             raise RunFileError(f"{run.path}: snapshot {snapshot} out of range (it holds "
                                f"{len(run.snapshots)})") from None
         scene = _scene(run, key, color_by)
-        title = pathlib.Path(str(run.h5.attrs.get("job_source", run.path))).stem
+        title = pathlib.Path(str(run.attrs.get("job_source", run.path))).stem
     try:
         out_png.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:

@@ -1,4 +1,4 @@
-"""The figure of a study (pice/study.py): for each metric, its change against the reference variant
+"""The figure of a study (pice/study/): for each metric, its change against the reference variant
 [%] over the wall time [s] of each variant, points labelled by variant number; and the cost
 (particle-steps over wall time). A metric no variant has (no body: offsets, tensions) says so.
 Matplotlib's Agg backend: no display needed. 1200 x 700 pixels.
@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import math
 import pathlib
+
+from .metrics import METRICS
 
 FIGSIZE = (12.0, 7.0)  # inches
 DPI = 100
@@ -19,8 +21,6 @@ def plot_study(study: dict, path) -> pathlib.Path:
 
     matplotlib.use("Agg", force=True)
     import matplotlib.pyplot as plt
-
-    from pice.study_report import METRICS
 
     rows, ref = study["variants"], study["reference"]
     wall = [r["wall_time"] for r in rows]

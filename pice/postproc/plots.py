@@ -20,6 +20,9 @@ import pathlib
 
 import numpy as np
 
+from ..io.errors import OutputError
+from ..io.run_reader import open_run
+
 FIGSIZE = (10.0, 7.0)  # inches
 DPI = 100
 MAX_WALL_PANELS = 6    # more walls than this: only their sum is drawn
@@ -44,16 +47,15 @@ def _save(fig, path: pathlib.Path) -> pathlib.Path:
 
 
 def _title(run) -> str:
-    src = run.h5.attrs.get("job_source", "")
+    src = run.attrs.get("job_source", "")
     return f"{pathlib.Path(str(src)).stem or run.path.stem}  ({run.path.name})"
 
 
 def ice_loads(run, out: pathlib.Path):
-    s = run.h5.get("series")
-    if s is None or "wall_force" not in s or "time" not in s or s["wall_force"].shape[1] == 0:
+    t, f = run.series("time"), run.series("wall_force")
+    if t is None or f is None or f.shape[1] == 0:
         return None
-    t = s["time"][()]
-    f = s["wall_force"][()] / 1e3  # (rows, walls, 3) kN
+    f = f / 1e3  # (rows, walls, 3) kN
     names = run.wall_names() or [f"wall{k}" for k in range(f.shape[1])]
     panels = [(f"ice load on {names[k]}", f[:, k]) for k in range(f.shape[1])] if f.shape[1] <= MAX_WALL_PANELS else []
     if f.shape[1] > 1:
@@ -74,14 +76,13 @@ def ice_loads(run, out: pathlib.Path):
 
 
 def energies(run, out: pathlib.Path):
-    s = run.h5.get("series")
-    names = sorted(k for k in (s or {}) if k.endswith("_energy")) if s is not None else []
-    if not names or "time" not in s:
+    names = [k for k in run.series_names() if k.endswith("_energy")]
+    t = run.series("time")
+    if not names or t is None:
         return None
-    t = s["time"][()]
     fig, (ax,) = _figure(1)
     for name in names:
-        e = s[name][()]
+        e = run.series(name)
         style = dict(color="k", lw=2.0) if name == "total_energy" else dict(lw=1.2)
         ax.plot(t, (e - e[0]) / 1e3, label=name.replace("_energy", ""), **style)
     ax.set_xlabel("t [s]")
@@ -94,12 +95,11 @@ def energies(run, out: pathlib.Path):
 
 
 def broken_bonds(run, out: pathlib.Path):
-    s = run.h5.get("series")
-    if s is None or "broken_bonds" not in s or "time" not in s:
+    t, broken = run.series("time"), run.series("broken_bonds")
+    if t is None or broken is None:
         return None
-    t = s["time"][()]
     fig, (ax,) = _figure(1)
-    ev = run.h5["events/broken_bonds"][()] if "events/broken_bonds" in run.h5 else np.zeros((0, 5))
+    ev = run.broken_bonds()
     t_end = float(t[-1]) if len(t) else 0.0
     if len(ev):
         ev = ev[np.argsort(ev[:, 1], kind="stable")]
@@ -110,7 +110,7 @@ def broken_bonds(run, out: pathlib.Path):
                 continue
             ax.step(np.concatenate([[0.0], te, [t_end]]), np.concatenate([[0], np.arange(1, len(te) + 1), [len(te)]]),
                     where="post", lw=2.0 if label == "all" else 1.2, label=label)
-    ax.plot(t, s["broken_bonds"][()], "k.", ms=4, label="series rows")
+    ax.plot(t, broken, "k.", ms=4, label="series rows")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("broken bonds (cumulative)")
     ax.grid(alpha=0.3)
@@ -123,33 +123,33 @@ def broken_bonds(run, out: pathlib.Path):
 def platform(run, out: pathlib.Path):
     """Per body: ice load (with the peaks between rows), offset from the start, rotation, and the
     fairlead tensions (MN)."""
-    s = run.h5.get("series")
-    if s is None or "body_position" not in s or "time" not in s:
+    t, x = run.series("time"), run.series("body_position")
+    if t is None or x is None:
         return None
-    t = s["time"][()]
-    has_lines = "fairlead_tension" in s and s["fairlead_tension"].shape[1] > 0
+    tension = run.series("fairlead_tension")
+    has_lines = tension is not None and tension.shape[1] > 0
     fig, axes = _figure(4 if has_lines else 3)
-    f = s["ice_force"][()] / 1e6
+    f = run.series("ice_force") / 1e6
+    f_max, f_min = run.series("ice_force_max"), run.series("ice_force_min")
     for k in range(f.shape[1]):
         for c, comp in enumerate("xyz"):
             line, = axes[0].plot(t, f[:, k, c], lw=1.2, label=f"body {k}: F{comp}")
-            if "ice_force_max" in s:
-                axes[0].fill_between(t, s["ice_force_min"][:, k, c] / 1e6, s["ice_force_max"][:, k, c] / 1e6,
+            if f_max is not None:
+                axes[0].fill_between(t, f_min[:, k, c] / 1e6, f_max[:, k, c] / 1e6,
                                      color=line.get_color(), alpha=0.2, lw=0)
     axes[0].set_ylabel("ice load [MN]")
     axes[0].set_title("ice load on the hull (shaded: range between series rows)", fontsize=10)
-    x = s["body_position"][()]
     for k in range(x.shape[1]):
         for c, comp in enumerate(("surge", "sway", "heave")):
             axes[1].plot(t, x[:, k, c] - x[0, k, c], lw=1.2, label=f"body {k}: {comp}")
     axes[1].set_ylabel("offset from t = 0 [m]")
-    r = np.degrees(s["body_rotation"][()])
+    r = np.degrees(run.series("body_rotation"))
     for k in range(r.shape[1]):
         for c, comp in enumerate(("roll", "pitch", "yaw")):
             axes[2].plot(t, r[:, k, c], lw=1.2, label=f"body {k}: {comp}")
     axes[2].set_ylabel("rotation [deg]")
     if has_lines:
-        ft = s["fairlead_tension"][()] / 1e6
+        ft = tension / 1e6
         for j in range(ft.shape[1]):
             axes[3].plot(t, ft[:, j], lw=0.8, label=f"line {j}" if ft.shape[1] <= 12 else None)
         axes[3].set_ylabel("fairlead tension [MN]")
@@ -174,9 +174,6 @@ def default_out_dir(run_path) -> pathlib.Path:
 
 def plot_run(run_path: str | os.PathLike, out_dir: str | os.PathLike | None = None) -> list[pathlib.Path]:
     """Write the PNG figures of a run into ``out_dir`` (default ``<run>_plots/``); return their paths."""
-    from pice.io.run_file import OutputError
-    from pice.io.vtk_export import open_run
-
     out = pathlib.Path(out_dir) if out_dir is not None else default_out_dir(run_path)
     written = []
     with open_run(run_path) as run:

@@ -1,17 +1,10 @@
-"""`pice study`: run variants of one job and weigh their cost against what designers read off them.
+"""The variants of a study: ``--vary KEY=v1,v2,...`` parsed, checked against the job, and every
+combination written out as a job of its own (validated by parse_job before anything runs).
 
-``pice study jobs/x.toml --vary run.dt=1e-4,2e-4 --vary ice.element_diameter=1.0,2.0`` makes the
-Cartesian product of the values (4 variants) and validates every one, including the set-up checks
-that need the built scene (the stability limit of run.dt), before anything runs. Each variant is
-written as ``<out>/x_<k>.toml`` (a job you can run again; its run.output is ``<out>/x_<k>.h5``) and
-run to ``<out>/x_<k>.h5``, one after the other inside this MPI job (run_job is collective: under
-``mpiexec -n 2`` every variant runs on 2 ranks). Rank 0 then reads the metrics of each run file
-(peak ice loads [N], offsets [m], fairlead tension [N]: pice/study_report.py), compares them with
-the reference variant (by default the finest: the most particle-steps) and writes the report.
-
-Cost: ``wall_time`` [s] of the time loop as run_job measures it (set-up excluded; every variant is
-set up and stepped twice beforehand, so numba's compile time falls on none of them) and
-``particle_steps`` = elements x steps.
+``moorings[0].element_length`` is the key path ("moorings", 0, "element_length"); values read as
+TOML scalars (a bare word such as ``auto`` is the string it spells). Each variant is the job text
+with its values set, its run file named by the study (``<out>/<job>_<k>.h5``) and its mesh paths
+made absolute, so the variant's TOML file is a job you can run again.
 """
 
 from __future__ import annotations
@@ -19,15 +12,12 @@ from __future__ import annotations
 import copy
 import dataclasses
 import itertools
-import math
 import pathlib
 import re
-import sys
 
-from .errors import JobError, PiceError
-from .io.toml_text import toml_text
-from .job import load_job, parse_job
-from .study_report import METRICS, compare, run_metrics, show_value
+from ..errors import JobError
+from ..io.toml_text import toml_text
+from ..job import load_job, parse_job
 
 try:  # Python >= 3.11
     import tomllib
@@ -36,7 +26,6 @@ except ModuleNotFoundError:  # pragma: no cover
 
 _NAME = r"[A-Za-z_][A-Za-z0-9_-]*"
 _KEY_PATH = re.compile(rf"^{_NAME}(\[\d+\])*(\.{_NAME}(\[\d+\])*)*$")
-WARM_UP_STEPS = 2  # steps each variant takes before the runs, to compile the kernels (not timed)
 _OWNED = ("run.output", "run.checkpoint")  # the study names each variant's files itself
 
 
@@ -208,83 +197,12 @@ def make_variants(job_path, specs: list[str], *, out_dir) -> list[Variant]:
     return variants
 
 
-def _preflight(variants: list[Variant], *, out_dir, comm) -> None:
-    """Set every variant up and advance it WARM_UP_STEPS (collective), writing nothing: the checks
-    that need the built scene (the stability limit of run.dt, overlaps, regions) fail here, before
-    the first run, and numba has loaded or compiled every kernel before the timed runs."""
-    from .simulation import Simulation
-
-    for v in variants:
-        sim = Simulation(v.job.model_copy(update={"source": v.label}), base_dir=out_dir, comm=comm)
-        sim.advance(min(WARM_UP_STEPS, sim.total_steps))
-
-
-def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None = None, settle: float = 0.0,
-              progress=sys.stderr, comm=None) -> dict | None:
-    """Run every variant (collective) and write the report; return the study dict on rank 0, None on
-    the others. ``settle`` [s]: offsets are taken over t >= settle. Bad input raises JobError
-    before anything is written or run."""
-    from .io.run_file import OutputError
-    from .parallel.comm import world
-    from .runner import run_job
-
-    comm = comm if comm is not None else world()
-    job_path = pathlib.Path(job_path)
-    out_dir = pathlib.Path(out_dir) if out_dir else pathlib.Path("runs") / f"{job_path.stem}_study"
-    if not settle >= 0.0 or math.isinf(settle):
-        raise JobError(f"--settle {settle}: must be a time >= 0 s")
-    variants = make_variants(job_path, specs, out_dir=out_dir)
-    if reference is not None and not 0 <= reference < len(variants):
-        raise JobError(f"--reference {reference}: must be a variant number 0..{len(variants) - 1}")
-    _preflight(variants, out_dir=out_dir, comm=comm)
-    _on_rank0(comm, lambda: _write_jobs(out_dir, variants), OutputError, f"{out_dir}: cannot write the variants")
-    if comm.rank != 0:
-        progress = None
-    rows = []
-    for v in variants:
-        if progress is not None:
-            print(f"pice study: variant {v.index} of 0..{len(variants) - 1}: "
-                  + ", ".join(f"{k} = {show_value(x)}" for k, x in v.values.items()) + f" -> {v.run}",
-                  file=progress, flush=True)
-        summary = run_job(v.job, output=str(v.run), overwrite=True, base_dir=out_dir, progress=progress, comm=comm)
-        rows.append(dict(variant=v.index, values=v.values, toml=str(v.toml), run=str(v.run),
-                         wall_time=summary["wall_time"], steps=summary["steps"], elements=summary["elements"],
-                         particle_steps=summary["elements"] * summary["steps"],
-                         particle_steps_per_second=summary["particle_steps_per_second"], ranks=summary["ranks"]))
-
-    def report():
-        from .study_report import write_report
-
-        for row in rows:
-            row["metrics"] = run_metrics(row["run"], settle=settle)
-        ref = compare(rows, reference)
-        study = dict(job=str(job_path), out_dir=str(out_dir), varied=list(variants[0].values),
-                     reference=ref, reference_rule="--reference" if reference is not None else "most particle-steps",
-                     loads_on="body 0" if variants[0].job.bodies else "the walls (sum)",
-                     settle=settle, units={name: unit for name, unit, _ in METRICS}, variants=rows)
-        study["files"] = [str(p) for p in write_report(study, out_dir)]
-        return study
-
-    return _on_rank0(comm, report, OutputError, f"{out_dir}: cannot write the study report")
-
-
-def _write_jobs(out_dir: pathlib.Path, variants: list[Variant]) -> None:
-    out_dir.mkdir(parents=True, exist_ok=True)
-    for v in variants:
-        v.toml.write_text(v.text, encoding="utf-8")
-
-
-def _on_rank0(comm, work, error_type, what: str):
-    """``work()`` on rank 0; a PiceError or OSError there is raised on every rank (as ``error_type``)."""
-    result, error = None, None
-    if comm.rank == 0:
-        try:
-            result = work()
-        except PiceError as exc:
-            error = exc
-        except OSError as exc:
-            error = error_type(f"{what} ({exc.strerror or exc}); choose another folder with --out DIR")
-    error = comm.bcast(error)
-    if error is not None:
-        raise error
-    return result
+def show_value(value) -> str:
+    """A value for tables and labels: 0.0001, auto, true, [1.0, 0.0]."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, list):
+        return "[" + ", ".join(show_value(v) for v in value) + "]"
+    return str(value)

@@ -1,0 +1,80 @@
+"""What a study measures in each run file, and its change against the reference variant.
+
+Metrics, from the run file's /series (read through io/run_reader.py), for body 0 (for the sum over
+the walls when the job has no bodies):
+
+* ``peak_load_x`` [N]: the largest ice load Fx, ``peak_load_z`` [N]: the largest |Fz|, over the
+  extremes between series rows (``ice_force_max``, ``ice_force_min``) and the rows (``ice_force``);
+* ``mean_offset``, ``max_offset`` [m]: horizontal distance of the body's centre from its position
+  in the first row, over the rows with t >= ``settle``;
+* ``max_fairlead_tension`` [N]: over every line and row, of ``fairlead_tension_max`` (the peaks
+  between rows) where recorded, else of ``fairlead_tension``.
+
+Change against the reference: 100 (v - v_ref) / |v_ref| [%]. A metric a run does not have (no
+body: offsets and tensions) is NaN.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..io.run_reader import open_run
+
+#: (name, unit, label) of every metric, in the order of the table, the CSV and the figure
+METRICS = (("peak_load_x", "N", "peak ice load Fx"), ("peak_load_z", "N", "peak ice load |Fz|"),
+           ("mean_offset", "m", "mean offset"), ("max_offset", "m", "max offset"),
+           ("max_fairlead_tension", "N", "max fairlead tension"))
+
+
+def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
+    """The metrics of one run file (module docstring): SI units, NaN where the run has no such series.
+
+    ``settle`` [s]: the offsets are taken over the rows with t >= settle."""
+    nan = float("nan")
+    out = dict.fromkeys((m[0] for m in METRICS), nan)
+    with open_run(path) as run:
+        get = run.series
+        time = get("time")
+        position = get("body_position")
+        if position is not None and position.shape[1] > 0:
+            force = get("ice_force")
+            hi = [a[:, 0] for a in (get("ice_force_max"), force) if a is not None]
+            lo = [a[:, 0] for a in (get("ice_force_min"), force) if a is not None]
+            tension = get("fairlead_tension_max")
+            tension = tension if tension is not None else get("fairlead_tension")
+        else:
+            walls = get("wall_force")
+            hi = lo = [walls.sum(axis=1)] if walls is not None and walls.shape[1] > 0 else []
+            tension = None
+        if hi and all(a.size for a in hi):
+            out["peak_load_x"] = float(max(a[:, 0].max() for a in hi))
+            out["peak_load_z"] = float(max(np.abs(a[:, 2]).max() for a in hi + lo))
+        if position is not None and position.shape[1] > 0 and len(position):
+            xy = position[:, 0, :2]
+            offset = np.linalg.norm(xy - xy[0], axis=1)[time >= settle]
+            if offset.size:
+                out["mean_offset"], out["max_offset"] = float(offset.mean()), float(offset.max())
+        if tension is not None and tension.size:
+            out["max_fairlead_tension"] = float(tension.max())
+    return out
+
+
+def change_percent(value: float, reference: float) -> float:
+    """100 (value - reference) / |reference| [%]; 0 when both are 0, NaN when undefined."""
+    if math.isnan(value) or math.isnan(reference):
+        return float("nan")
+    if reference == 0.0:
+        return 0.0 if value == 0.0 else float("nan")
+    return 100.0 * (value - reference) / abs(reference)
+
+
+def compare(rows: list[dict], reference: int | None = None) -> int:
+    """Add each row's ``change_pct`` against the reference row (default: the most particle-steps,
+    the first of equals); return the reference's index."""
+    ref = reference if reference is not None else max(range(len(rows)), key=lambda k: rows[k]["particle_steps"])
+    for row in rows:
+        row["change_pct"] = {name: change_percent(row["metrics"][name], rows[ref]["metrics"][name])
+                             for name, _, _ in METRICS}
+    return ref

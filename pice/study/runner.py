@@ -1,0 +1,98 @@
+"""Running a study: every variant set up and warmed up first (a bad one stops the study before
+anything runs), then run one after the other inside this MPI job (run_job is collective: under
+``mpiexec -n 2`` every variant runs on 2 ranks); rank 0 then measures each run file
+(study/metrics.py) and writes the report (study/report.py).
+
+Cost: ``wall_time`` [s] of the time loop as run_job measures it (set-up excluded; every variant is
+set up and stepped twice beforehand, so numba's compile time falls on none of them) and
+``particle_steps`` = elements x steps.
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+import sys
+
+from ..errors import JobError
+from ..io.errors import OutputError
+from ..parallel.comm import on_root, world
+from .metrics import METRICS, compare, run_metrics
+from .report import write_report
+from .variants import Variant, make_variants, show_value
+
+WARM_UP_STEPS = 2  # steps each variant takes before the runs, to compile the kernels (not timed)
+
+
+def _preflight(variants: list[Variant], *, out_dir, comm) -> None:
+    """Set every variant up and advance it WARM_UP_STEPS (collective), writing nothing: the checks
+    that need the built scene (the stability limit of run.dt, overlaps, regions) fail here, before
+    the first run, and numba has loaded or compiled every kernel before the timed runs."""
+    from ..simulation import Simulation
+
+    for v in variants:
+        sim = Simulation(v.job.model_copy(update={"source": v.label}), base_dir=out_dir, comm=comm)
+        sim.advance(min(WARM_UP_STEPS, sim.total_steps))
+
+
+def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None = None, settle: float = 0.0,
+              progress=sys.stderr, comm=None) -> dict | None:
+    """Run every variant (collective) and write the report; return the study dict on rank 0, None on
+    the others. ``settle`` [s]: offsets are taken over t >= settle. Bad input raises JobError
+    before anything is written or run."""
+    from ..runner import run_job  # looked up at call time (the simulation is heavy to import)
+
+    comm = comm if comm is not None else world()
+    job_path = pathlib.Path(job_path)
+    out_dir = pathlib.Path(out_dir) if out_dir else pathlib.Path("runs") / f"{job_path.stem}_study"
+    if not settle >= 0.0 or math.isinf(settle):
+        raise JobError(f"--settle {settle}: must be a time >= 0 s")
+    variants = make_variants(job_path, specs, out_dir=out_dir)
+    if reference is not None and not 0 <= reference < len(variants):
+        raise JobError(f"--reference {reference}: must be a variant number 0..{len(variants) - 1}")
+    _preflight(variants, out_dir=out_dir, comm=comm)
+    _on_rank0(comm, lambda: _write_jobs(out_dir, variants), f"{out_dir}: cannot write the variants")
+    if comm.rank != 0:
+        progress = None
+    rows = []
+    for v in variants:
+        if progress is not None:
+            print(f"pice study: variant {v.index} of 0..{len(variants) - 1}: "
+                  + ", ".join(f"{k} = {show_value(x)}" for k, x in v.values.items()) + f" -> {v.run}",
+                  file=progress, flush=True)
+        summary = run_job(v.job, output=str(v.run), overwrite=True, base_dir=out_dir, progress=progress, comm=comm)
+        rows.append(dict(variant=v.index, values=v.values, toml=str(v.toml), run=str(v.run),
+                         wall_time=summary["wall_time"], steps=summary["steps"], elements=summary["elements"],
+                         particle_steps=summary["elements"] * summary["steps"],
+                         particle_steps_per_second=summary["particle_steps_per_second"], ranks=summary["ranks"]))
+
+    def report():
+        for row in rows:
+            row["metrics"] = run_metrics(row["run"], settle=settle)
+        ref = compare(rows, reference)
+        study = dict(job=str(job_path), out_dir=str(out_dir), varied=list(variants[0].values),
+                     reference=ref, reference_rule="--reference" if reference is not None else "most particle-steps",
+                     loads_on="body 0" if variants[0].job.bodies else "the walls (sum)",
+                     settle=settle, units={name: unit for name, unit, _ in METRICS}, variants=rows)
+        study["files"] = [str(p) for p in write_report(study, out_dir)]
+        return study
+
+    return _on_rank0(comm, report, f"{out_dir}: cannot write the study report")
+
+
+def _write_jobs(out_dir: pathlib.Path, variants: list[Variant]) -> None:
+    out_dir.mkdir(parents=True, exist_ok=True)
+    for v in variants:
+        v.toml.write_text(v.text, encoding="utf-8")
+
+
+def _on_rank0(comm, work, what: str):
+    """``work()`` on rank 0 (parallel.comm.on_root); an OSError there is an OutputError saying
+    ``what`` failed, raised on every rank like any PiceError."""
+
+    def translate(exc):
+        if isinstance(exc, OSError):
+            return OutputError(f"{what} ({exc.strerror or exc}); choose another folder with --out DIR")
+        return None
+
+    return on_root(comm, work, translate=translate)
