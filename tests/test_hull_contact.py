@@ -25,7 +25,7 @@ def _call(x, v, pose, verts, tris, grid, dt=1e-3, hist=None, r=0.5):
     n = len(x)
     force, torque = np.zeros((n, 3)), np.zeros((n, 3))
     hist = np.zeros((n, 3)) if hist is None else hist
-    load = hull_forces(n, x, v, np.zeros((n, 3)), np.full(n, r), np.full(n, 400.0), pose, verts, tris,
+    load, _ = hull_forces(n, x, v, np.zeros((n, 3)), np.full(n, r), np.full(n, 400.0), pose, verts, tris,
                        *grid, PARAMS, hist, dt, force, torque)
     return force, torque, load, hist
 

@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit
 
 from ..kernels import JIT
-from ..kernels.contact_law import normal_force, tangential_force
+from ..kernels.contact_law import contact_energy, normal_force, tangential_force
 from ..kernels.geometry import closest_point_on_triangle, rotation_matrix
 from ..physics.contact import ContactLaw
 
@@ -62,7 +62,8 @@ def build_triangle_grid(vertices: np.ndarray, triangles: np.ndarray, *, reach: f
 @njit(**JIT)
 def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_origin, cell, dims, cell_start,
                 cell_tris, law, hist, dt, force, torque):
-    """Add hull contact forces to owned particles; return the (6,) load on the body
+    """Add hull contact forces to owned particles; return the (6,) load on the body and the elastic
+    energy stored in the contacts [J] (as a tuple (load, energy)); the load is
     (force [N], moment about its CG [N m]) from this rank's ice.
 
     pose: (13,) x_cg, q (w, x, y, z), v_cg, omega (space frame). hist: (n, 3) tangential force [N].
@@ -72,6 +73,7 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
     vb = pose[7:10]
     om = pose[10:13]
     load = np.zeros(6)
+    energy = 0.0
     pb = np.empty(3)
     cp = np.empty(3)
     best = np.empty(3)
@@ -123,8 +125,9 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
         un = u0 * n0 + u1 * n1 + u2 * n2
         fn = normal_force(law.kn, law.zeta, mass[i], delta, un)
         h = hist[i]
-        h[0], h[1], h[2], _ = tangential_force(h[0], h[1], h[2], n0, n1, n2, u0, u1, u2, un, law.kt, dt,
-                                               law.mu * fn)
+        h[0], h[1], h[2], hm = tangential_force(h[0], h[1], h[2], n0, n1, n2, u0, u1, u2, un, law.kt, dt,
+                                                law.mu * fn)
+        energy += contact_energy(law.kn, law.kt, delta, hm)
         f0, f1, f2 = fn * n0 + h[0], fn * n1 + h[1], fn * n2 + h[2]
         force[i, 0] += f0
         force[i, 1] += f1
@@ -138,14 +141,15 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
         load[3] -= a1 * f2 - a2 * f1
         load[4] -= a2 * f0 - a0 * f2
         load[5] -= a0 * f1 - a1 * f0
-    return load
+    return load, energy
 
 
 class HullContactTerm:
     """Contact of this rank's ice with every hull (``hull_forces``), at the poses rank 0 broadcast.
 
     ``poses`` (n_bodies, 13) is set by the simulation before each evaluation; after it ``loads``
-    (n_bodies, 6) holds this rank's ice load on each body: force [N] and moment about its CG [N m].
+    (n_bodies, 6) holds this rank's ice load on each body: force [N] and moment about its CG [N m],
+    and ``energy`` the elastic energy in this rank's hull contacts [J].
     """
 
     name = "hull contact"
@@ -154,8 +158,11 @@ class HullContactTerm:
         self.hulls = hulls
         self.poses = np.zeros((len(hulls), 13))
         self.loads = np.zeros((len(hulls), 6))
+        self.energy = 0.0
 
     def add_forces(self, p, c, dt):
+        self.energy = 0.0
         for k, h in enumerate(self.hulls):
-            self.loads[k] = hull_forces(p.nlocal, p.x, p.v, p.w, p.radius, p.mass, self.poses[k], h.vertices,
+            self.loads[k], e = hull_forces(p.nlocal, p.x, p.v, p.w, p.radius, p.mass, self.poses[k], h.vertices,
                                         h.triangles, *h.grid, h.law, p.hull_hist[:, k, :], dt, p.force, p.torque)
+            self.energy += e
