@@ -11,7 +11,7 @@ import signal
 import sys
 import time as wall
 
-from .errors import InstabilityError, PiceError, RunInterrupted
+from .errors import InstabilityError, RunInterrupted
 from .io.output import RunOutput, snapshot_steps
 from .simulation import Simulation
 
@@ -149,16 +149,8 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress=sys
 def _restarted(job, path, *, base_dir=None, comm=None) -> Simulation:
     """A Simulation continued from the checkpoint at ``path`` (rank 0 reads it; errors reach every rank)."""
     from .io.checkpoint import read_checkpoint
-    from .parallel.comm import world
+    from .parallel.comm import on_root, world
 
     comm = comm if comm is not None else world()
-    data, error = None, None
-    if comm.rank == 0:
-        try:
-            data = read_checkpoint(path)
-        except PiceError as exc:
-            error = exc
-    error = comm.bcast(error)
-    if error is not None:
-        raise error
+    data = on_root(comm, lambda: read_checkpoint(path))
     return Simulation.from_checkpoint(job, data, base_dir=base_dir, comm=comm)

@@ -30,6 +30,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import PiceError
+from ..parallel.comm import on_root
 from ..state import PER_PARTICLE
 
 FORMAT = "pice checkpoint"
@@ -92,16 +93,14 @@ def write_checkpoint(sim, path) -> pathlib.Path:
     mine = (c.broken, c.contacts, c.contact_energy, c.wall_energy, list(c.events))
     counters = comm.gather(mine)
     path = pathlib.Path(path)
-    error = None
-    if comm.rank == 0:
-        try:
-            _write(sim, path, parts, counters)
-        except (OSError, ValueError, RuntimeError) as exc:
-            error = CheckpointError(f"{path}: cannot write the checkpoint ({getattr(exc, 'strerror', None) or exc}); "
-                                    "choose a writable path with run.checkpoint or free some disk space")
-    error = comm.bcast(error)
-    if error is not None:
-        raise error
+
+    def unwritable(exc):
+        if isinstance(exc, (OSError, ValueError, RuntimeError)):
+            return CheckpointError(f"{path}: cannot write the checkpoint ({getattr(exc, 'strerror', None) or exc}); "
+                                   "choose a writable path with run.checkpoint or free some disk space")
+        return None
+
+    on_root(comm, lambda: _write(sim, path, parts, counters), translate=unwritable)
     return path
 
 

@@ -15,9 +15,8 @@ import logging
 
 import numpy as np
 
-from ..errors import PiceError
+from ..parallel.comm import on_root
 from ..platform.output import describe as describe_platform
-from .errors import OutputError
 from .mpio import MODE_ENV, choose_mode, h5py_has_mpi
 from .run_file import RunFile
 from .xdmf import write_xdmf_quietly
@@ -53,23 +52,17 @@ class RunOutput:
         attrs = {"dt": sim.dt, "dt_stable": sim.limit.stable}
         if sim.platform is not None:  # rank 0, whose attributes the file keeps: bodies, their resolved masses, lines
             attrs.update(describe_platform(sim.platform, sim.dt))
-        error = None
         if self.mode == "mpio":  # collective; an error is raised on every rank alike
             self.file = RunFile(output, job=job, overwrite=overwrite, ranks=self.comm.size, comm=self.comm,
                                 extra_attrs=attrs)
-        elif self.comm.rank == 0:
-            try:
+        else:
+            def open_file():
                 if restart is not None:  # continue the run file: rows up to the checkpoint's step stay
-                    self.file = RunFile.open_for_restart(output, step=sim.c.step, job=job, ranks=self.comm.size,
-                                                         restarted_from=str(restart))
-                else:
-                    self.file = RunFile(output, job=job, overwrite=overwrite, ranks=self.comm.size,
-                                        extra_attrs=attrs)
-            except PiceError as exc:
-                error = exc
-        error = self.comm.bcast(error)
-        if error is not None:
-            raise error
+                    return RunFile.open_for_restart(output, step=sim.c.step, job=job, ranks=self.comm.size,
+                                                    restarted_from=str(restart))
+                return RunFile(output, job=job, overwrite=overwrite, ranks=self.comm.size, extra_attrs=attrs)
+
+            self.file = on_root(self.comm, open_file)
         self.events_written = len(sim.c.events)  # a restart's events are in the file already
         self.snapshots_kept = self.comm.bcast(len(self.file.snapshots) if self.file else 0)
 
@@ -112,16 +105,7 @@ class RunOutput:
     def _write(self, write):
         """Every rank holding the file calls ``write`` (gathered: rank 0 only); an OutputError (a full
         disk...) is raised on every rank, so none is left waiting in a collective."""
-        error = None
-        if self.file:
-            try:
-                write()
-            except OutputError as exc:
-                error = exc
-        if self.comm.size > 1:
-            error = self.comm.bcast(error)
-        if error is not None:
-            raise error
+        on_root(self.comm, write, here=bool(self.file))
 
     def checkpoint(self, path):
         """Events and rows so far into the run file, then the checkpoint, then the rebuild a restart does."""

@@ -175,8 +175,8 @@ def abort_all(code: int = 1) -> None:
             MPI.COMM_WORLD.Abort(code)
 
 
-def on_root(comm, work, *, translate=None):
-    """Run ``work()`` on rank 0 only; an error it raises there is raised on every rank.
+def on_root(comm, work, *, translate=None, here=None):
+    """Run ``work()`` on rank 0 only (or where ``here`` is true); rank 0's error is raised on every rank.
 
     The one pattern for set-up and output done by rank 0 in a collective context: the other ranks
     must not wait forever for a rank that failed. A ``PiceError`` travels as it is; another exception
@@ -187,7 +187,7 @@ def on_root(comm, work, *, translate=None):
     from ..errors import PiceError
 
     result, error, original = None, None, None
-    if comm.rank == 0:
+    if (comm.rank == 0) if here is None else here:
         try:
             result = work()
         except PiceError as exc:
@@ -197,7 +197,7 @@ def on_root(comm, work, *, translate=None):
             if error is None:
                 original = exc
                 error = PiceError(f"rank 0 failed: {type(exc).__name__}: {exc}")
-    error = comm.bcast(error)
+    error = comm.bcast(error) if comm.size > 1 else error
     if original is not None:
         raise original
     if error is not None:
