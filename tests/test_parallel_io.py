@@ -195,8 +195,8 @@ def test_full_disk_is_a_clear_error_and_keeps_what_was_written(tmp_path):
 
 _CHILD = """
 import sys
-import pice.io.run_file as run_file
-run_file.SPACE_MARGIN = -10**15   # no free-space check: HDF5 itself meets ENOSPC
+import pice.io.disk as disk
+disk.SPACE_MARGIN = -10**15   # no free-space check: HDF5 itself meets ENOSPC
 from pice.cli import main
 sys.exit(main(sys.argv[1:]))
 """

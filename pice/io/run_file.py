@@ -5,7 +5,7 @@ Layout::
     /                 attrs: job_text, job_source, pice_version, ranks, units, started, status
     /series/<name>    one row per recorded step (resizable, flushed as written)
     /snapshots/NNNNN  attrs time, step; datasets gid, x, v, w, radius, kind, bonds (m,2 gids)
-                      [+ point_index, bond_index when the gids are not 0..n-1: point_index_arrays]
+                      [+ point_index, bond_index when the gids are not 0..n-1: xdmf.point_index_arrays]
                       [+ body_pose (n_bodies,13: x, q, v, omega), mooring_x (k,3), mooring_line (k,)
                        when the job has [[bodies]] / [[moorings]]; snapshot 0 also holds each hull
                        in its body frame: hull<k>_vertices, hull<k>_triangles]
@@ -29,93 +29,18 @@ import errno
 import io
 import os
 import pathlib
-import re
 import sys
 
 import h5py
 import numpy as np
 
 from .. import __version__
+from . import disk
+from .xdmf import point_index_arrays
 from .errors import OutputError
 from .mpio import RUNS_DIRECT, count_runs, placement, to_blocks, write_rows
 
 UNITS = "SI: m, s, kg, N, N m, J, Pa; angles in rad"
-
-
-#: bytes that must stay free beyond a write's own data: the HDF5 metadata flushed with it. Checked
-#: before every write, so a disk that fills up stops the run cleanly before HDF5 meets ENOSPC.
-SPACE_MARGIN = 256 * 1024
-
-
-_FULL = (errno.ENOSPC, errno.EFBIG, errno.EDQUOT)
-
-
-def _reason(exc: BaseException) -> str:
-    """The operating system's words for an h5py/OS error ("No space left on device"), else the text."""
-    if isinstance(exc, OSError) and exc.errno and exc.strerror:
-        return exc.strerror
-    text = str(exc)
-    m = re.search(r"errno = (\d+)", text)
-    if m and int(m.group(1)):
-        return os.strerror(int(m.group(1)))
-    for code in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EACCES, errno.EROFS, errno.ENOENT, errno.EIO):
-        if os.strerror(code) in text:  # e.g. inside an MPI-IO error stack
-            return os.strerror(code)
-    m = re.search(r"error message = '([^']+)'", text)
-    return m.group(1) if m else " ".join(text.split())
-
-
-def _hint(reason: str) -> str:
-    if any(os.strerror(e) in reason for e in _FULL):
-        return ("the disk is full (or a size limit or quota was reached): free space or choose another "
-                "output with -o")
-    return "check that the file system is writable, or choose another output with -o"
-
-
-def _free_bytes(folder: pathlib.Path) -> int | None:
-    try:
-        st = os.statvfs(folder)
-    except OSError:
-        return None
-    return st.f_bavail * st.f_frsize
-
-
-def _nbytes(*arrays) -> int:
-    return int(sum(np.asarray(a).nbytes for a in arrays))
-
-
-def _refusal(path: pathlib.Path, overwrite: bool) -> str | None:
-    """Why ``path`` cannot become a new run file (None: go ahead). Creates missing parent folders."""
-    if path.is_dir():
-        return f"{path}: is a directory; give a file name with -o"
-    if path.exists() and not overwrite:
-        return f"{path}: already exists; pass --overwrite to replace it or choose another output with -o"
-    for folder in (path.parent, *path.parent.parents):
-        if folder.exists():
-            if not folder.is_dir():
-                return (f"{path}: cannot create the run file ({folder} is a file, not a folder); "
-                        "choose a writable path with -o")
-            break
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        return (f"{path}: cannot create its folder {path.parent} ({exc.strerror or exc}); "
-                "choose a writable path with -o")
-    return None
-
-
-def point_index_arrays(gid: np.ndarray, bonds: np.ndarray) -> dict:
-    """Connectivity by point index for readers that cannot follow gids (XDMF, see io/xdmf.py).
-
-    ``gid`` is a snapshot's sorted gid array and ``bonds`` its (m,2) gid pairs. When the gids are
-    0..n-1 (every run so far) they are their own indices and nothing extra is stored: {}. Otherwise
-    ``point_index`` (0..n-1) and ``bond_index`` (bonds as indices into the snapshot's arrays).
-    """
-    n = len(gid)
-    if n == 0 or (gid[0] == 0 and gid[-1] == n - 1):  # sorted and unique, so exactly 0..n-1
-        return {}
-    return {"point_index": np.arange(n, dtype=np.int64),
-            "bond_index": np.searchsorted(gid, np.asarray(bonds, dtype=np.int64).reshape(-1, 2))}
 
 
 class RunFile:
@@ -138,7 +63,7 @@ class RunFile:
         self.h5 = None
         if comm is not None and comm.size > 1:
             self.comm, self.rank = comm, comm.rank
-        refusal = _refusal(self.path, overwrite) if self.rank == 0 else None
+        refusal = disk.refusal(self.path, overwrite) if self.rank == 0 else None
         if self.comm:
             refusal = self.comm.bcast(refusal)
         if refusal:
@@ -150,7 +75,7 @@ class RunFile:
             else:
                 self.h5 = h5py.File(self.path, "w")
         except OSError as exc:
-            reason = _reason(exc)
+            reason = disk.reason(exc)
         reason = self._agree(reason)
         if reason:
             self._drop()
@@ -171,7 +96,7 @@ class RunFile:
                                                  dtype="f8", chunks=(1024, 5))
 
         try:
-            self._write("the run file's attributes", start, need=_nbytes(job.text.encode()))
+            self._write("the run file's attributes", start, need=disk.nbytes(job.text.encode()))
             self._write("the run file's attributes", self.h5.flush)
         except OutputError:
             self.close("failed")  # quiet: self.failed is set (collective: every rank failed alike)
@@ -192,20 +117,20 @@ class RunFile:
     def _write(self, what: str, fn, need: int | None = None) -> None:
         """Run ``fn`` (h5py calls); on any rank's failure raise OutputError on every rank.
 
-        ``need``: bytes the write adds; with less than ``need + SPACE_MARGIN`` free on the file's
+        ``need``: bytes the write adds; with less than ``need + disk.SPACE_MARGIN`` free on the file's
         disk it is not attempted (the file stays whole and closes normally)."""
         if self.failed:
             raise self._error
         if need is not None:
             short = None
             if self.rank == 0:
-                free = _free_bytes(self.path.parent)
-                if free is not None and free < need + SPACE_MARGIN:
+                free = disk.free_bytes(self.path.parent)
+                if free is not None and free < need + disk.SPACE_MARGIN:
                     short = (f"{os.strerror(errno.ENOSPC)}: {free / 2**20:.3g} MiB free, about "
-                             f"{(need + SPACE_MARGIN) / 2**20:.3g} MiB needed")
+                             f"{(need + disk.SPACE_MARGIN) / 2**20:.3g} MiB needed")
             short = self._agree(short)
             if short:
-                self.failed = (f"{self.path}: writing {what} stopped ({short}); {_hint(short)}. What was "
+                self.failed = (f"{self.path}: writing {what} stopped ({short}); {disk.hint(short)}. What was "
                                "written before is kept in the file.")
                 self._error = OutputError(self.failed)
                 raise self._error
@@ -219,17 +144,17 @@ class RunFile:
             with contextlib.redirect_stderr(h5py_says):
                 fn()
         except (OSError, RuntimeError) as exc:
-            reason = _reason(exc)
+            reason = disk.reason(exc)
         finally:
             sys.unraisablehook = previous
             if h5py_says.getvalue() and not ignored:
                 sys.stderr.write(h5py_says.getvalue())
         if ignored and not reason:  # then a flush would crash inside HDF5: stop here
-            reason = _reason(ignored[0])
+            reason = disk.reason(ignored[0])
         reason = self._agree(reason)
         if reason:
             self.broken = True
-            self.failed = (f"{self.path}: writing {what} failed ({reason}); {_hint(reason)}. What was written "
+            self.failed = (f"{self.path}: writing {what} failed ({reason}); {disk.hint(reason)}. What was written "
                            "before is kept in the file.")
             self._error = OutputError(self.failed)
             self._error.hard_exit = True
@@ -265,7 +190,7 @@ class RunFile:
                     ds[self.rows] = value
 
         # a row may start a new 256-row chunk in every dataset
-        self._write(f"series row {self.rows}", write, need=256 * _nbytes(*row.values()))
+        self._write(f"series row {self.rows}", write, need=256 * disk.nbytes(*row.values()))
         self._write(f"series row {self.rows}", self.h5.flush)
         self.rows += 1
 
@@ -301,7 +226,7 @@ class RunFile:
         if self.comm:
             self._write_snapshot_mpio(index, time=time, step=step, arrays=arrays, extras=extras)
             return
-        need = 2 * _nbytes(*arrays.values(), *(extras or {}).values())  # x2: the index arrays
+        need = 2 * disk.nbytes(*arrays.values(), *(extras or {}).values())  # x2: the index arrays
         self._write(f"snapshot {index}", lambda: self._write_snapshot_serial(index, time, step, arrays, extras),
                     need=need)
         self._write(f"snapshot {index}", self.h5.flush)
@@ -351,7 +276,7 @@ class RunFile:
                                extra[name] if mine else np.zeros((0, *shape[1:]), dtype=np.dtype(dt)))
             _write_extras(g, extras, self.rank == 0)
 
-        need = 2 * _nbytes(*fields.values())
+        need = 2 * disk.nbytes(*fields.values())
         need = int(self.comm.sum(float(need)))
         self._write(f"snapshot {index}", write, need=need)
         self._write(f"snapshot {index}", self.h5.flush)
@@ -440,15 +365,15 @@ class RunFile:
             self.h5.attrs["status"] = status
             self.h5.attrs["ended"] = ended
         except (OSError, RuntimeError) as exc:
-            reason = _reason(exc)
+            reason = disk.reason(exc)
         try:
             self.h5.close()
         except (OSError, RuntimeError) as exc:
-            reason = reason or _reason(exc)
+            reason = reason or disk.reason(exc)
         self.h5 = None
         reason = self._agree(reason)
         if reason and not self.failed:
-            self.failed = f"{self.path}: closing the run file failed ({reason}); {_hint(reason)}"
+            self.failed = f"{self.path}: closing the run file failed ({reason}); {disk.hint(reason)}"
             raise OutputError(self.failed)
 
 

@@ -12,7 +12,7 @@ snapshot and its ``Time``:
 Connectivity must be point indices. Snapshots are sorted by gid, so when the gids are 0..n-1 (all
 runs so far) the ``gid`` and ``bonds`` datasets are referenced as they are and nothing is added;
 otherwise the run-file writer stores ``point_index`` and ``bond_index``
-(``run_file.point_index_arrays``) and those are referenced.
+(``point_index_arrays``) and those are referenced.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ import pathlib
 import xml.etree.ElementTree as ET
 
 import h5py
+import numpy as np
 
 from .errors import OutputError
 from .run_reader import open_run
@@ -31,6 +32,20 @@ from .run_reader import open_run
 _ATTRIBUTES = (("radius", "radius", "Scalar"), ("v", "velocity", "Vector"),
                ("w", "angular_velocity", "Vector"), ("kind", "kind", "Scalar"), ("gid", "gid", "Scalar"))
 
+
+
+def point_index_arrays(gid: np.ndarray, bonds: np.ndarray) -> dict:
+    """Connectivity by point index for readers that cannot follow gids (XDMF, see io/xdmf.py).
+
+    ``gid`` is a snapshot's sorted gid array and ``bonds`` its (m,2) gid pairs. When the gids are
+    0..n-1 (every run so far) they are their own indices and nothing extra is stored: {}. Otherwise
+    ``point_index`` (0..n-1) and ``bond_index`` (bonds as indices into the snapshot's arrays).
+    """
+    n = len(gid)
+    if n == 0 or (gid[0] == 0 and gid[-1] == n - 1):  # sorted and unique, so exactly 0..n-1
+        return {}
+    return {"point_index": np.arange(n, dtype=np.int64),
+            "bond_index": np.searchsorted(gid, np.asarray(bonds, dtype=np.int64).reshape(-1, 2))}
 
 def xdmf_path(run_path: str | os.PathLike) -> pathlib.Path:
     return pathlib.Path(run_path).with_suffix(".xdmf")
