@@ -14,7 +14,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, fsolve
 
-from pice.platform.catenary import Segment, anchor_distance, profile, solve_line
+from pice.platform.catenary import Segment, anchor_distance, profile, solve_line, strain_energy
 
 pytestmark = pytest.mark.nojit
 
@@ -101,3 +101,34 @@ def test_spread_mooring_layout_reaches_the_pretension():
     assert xs == pytest.approx(x, rel=1e-7) and zs == pytest.approx(385.0, rel=1e-7)
     assert not st.touches_seabed and st.anchor_vertical > 0.0
     assert 200.0 < x < 260.0
+
+
+def test_strain_energy_is_the_integral_of_t_squared_over_2ea():
+    """catenary.strain_energy (closed form) against the ODE quadrature of dE/ds = T^2 / (2 EA) along
+    the unstretched arc length (solve_ivp, rtol 1e-12), within 1e-9: Table 1 between fixed points
+    (V changes sign along the line), Table 5's three segments hanging free, and a line resting on the
+    seabed, whose grounded part adds H^2 L_g / (2 EA) (tension H along it)."""
+    def quadrature(segments, H, v_start):
+        energy, v = 0.0, v_start
+        for seg in segments:
+            def rhs(s, y, seg=seg):
+                V = v + seg.weight * s
+                return [(H * H + V * V) / (2.0 * seg.ea)]
+            energy += solve_ivp(rhs, (0.0, seg.length), [0.0], rtol=1e-12, atol=1e-12, method="DOP853").y[0, -1]
+            v += seg.weight * seg.length
+        return energy
+
+    X = Z = 1000.0 * math.cos(math.pi / 4)
+    st = solve_line(TABLE1, horizontal=X, vertical=Z, seabed=False)
+    assert st.anchor_vertical < 0.0 < st.fairlead_vertical
+    assert strain_energy(TABLE1, st) == pytest.approx(quadrature(TABLE1, st.horizontal_tension, st.anchor_vertical),
+                                                      rel=1e-9)
+    _, st = anchor_distance(TABLE5, vertical=385.0, fairlead_tension=221.7e3)
+    assert strain_energy(TABLE5, st) == pytest.approx(quadrature(TABLE5, st.horizontal_tension, st.anchor_vertical),
+                                                      rel=1e-9)
+    line = [Segment(600.0, 1.0e3, 5.0e8)]
+    st = solve_line(line, horizontal=500.0, vertical=200.0)
+    H, grounded = st.horizontal_tension, st.grounded_length
+    assert grounded > 0.0
+    ref = H * H * grounded / (2.0 * 5.0e8) + quadrature([Segment(600.0 - grounded, 1.0e3, 5.0e8)], H, 0.0)
+    assert strain_energy(line, st) == pytest.approx(ref, rel=1e-9)

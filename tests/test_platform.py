@@ -1,15 +1,19 @@
-"""Rank 0's platform: fairleads carried by the hull, the mooring pull on the body, rest equilibrium."""
+"""Rank 0's platform: fairleads carried by the hull, the mooring pull on the body, rest equilibrium, the
+energies of bodies and lines."""
 
 import math
 
 import numpy as np
+import pytest
 
 from pice.kernels.geometry import rotation_matrix
-from pice.platform.hulls import semi_submersible, semi_submersible_braces
+from pice.platform.catenary import Segment, solve_line, strain_energy
+from pice.platform.hulls import box, semi_submersible, semi_submersible_braces
 from pice.platform.layout import spread_mooring, zhu_ji_fairleads
-from pice.platform.mooring_lines import build_lines
-from pice.platform.platform import Attachment, Platform
-from pice.platform.rigid_body import RigidBody
+from pice.platform.mooring_lines import LINE_ELEMENT_RECORD, LineWater, MooringLines, Seabed, build_lines
+from pice.platform.platform import Attachment, MooringGroup, Platform
+from pice.platform.quasi_static import QuasiStaticLines
+from pice.platform.rigid_body import RigidBody, heading_quaternion
 
 CG = np.array([0.0, 0.0, -14.0 + 8.9])  # Table 3: CG 8.9 m above the keel, draft 14 m
 
@@ -62,3 +66,49 @@ def test_moored_platform_at_rest_stays_put():
     assert np.linalg.norm(b.x - CG) < 0.02
     assert 2 * math.degrees(math.acos(min(1.0, abs(b.q[0])))) < 0.01
     np.testing.assert_allclose(p.fairlead_tensions(), 221.7e3, rtol=0.01)
+
+
+def test_energies_of_a_spinning_body_and_a_stretched_line_element():
+    """Platform.energies against a hand computation [J].
+
+    Body: a 1 m box hull, m = 2000 kg, I = (100, 200, 300) kg m^2, added mass 500 kg in surge and
+    50 kg m^2 in yaw, yawed 90 degrees (body x along space y, body y along space -x), moving at
+    v = (0, 2, 0) m/s (body surge) and spinning at w = (0.3, 0, 0.5) rad/s (body -y and z), with the
+    inertia its equation of motion carries:
+        1/2 (2000 + 500) 2^2 + 1/2 200 0.3^2 + 1/2 (300 + 50) 0.5^2 = 5000 + 9 + 43.75 = 5052.75.
+    DEM line: anchor, a taut and a slack element along x under water (rho = 1000 kg/m^3), each
+    l0 = 10 m, EA = 1e6 N, D = 0.1 m, C_a = 1; the middle node (8 kg) at x = 10.05 m moves at
+    (0.2, 0.3, 0.4) m/s, the end node 9 m further on (1 m slack) is at rest:
+        elastic 1/2 EA/l0 0.05^2 = 125 (the slack element stores nothing);
+        kinetic 1/2 8 (0.2^2 + 0.3^2 + 0.4^2) + 1/2 m_a (0.3^2 + 0.4^2) = 1.16 + 3.125 pi, the middle
+        node's added mass m_a = rho C_a pi D^2/4 (2 x l0/2) = 25 pi kg acting on the velocity normal
+        to the line (its tangent is x).
+    A quasi-static line adds no kinetic energy and its catenary's strain energy (catenary.strain_energy).
+    """
+    v, t = box(1.0, 1.0, 1.0)
+    body = RigidBody("box", 2000.0, np.array([100.0, 200.0, 300.0]), v, t,
+                     added_mass=np.array([500.0, 0.0, 0.0, 0.0, 0.0, 50.0]))
+    body.q = np.array(heading_quaternion(90.0))
+    body.v = np.array([0.0, 2.0, 0.0])
+    R = rotation_matrix(body.q)
+    body.L = R @ (body.effective_inertia * (R.T @ np.array([0.3, 0.0, 0.5])))
+    element = (1.0e6, 10.0, 0.1, 100.0, 1.2, 0.01, 1.0, 0.0)  # ea, l0, D, wet weight, C_dn, C_dt, C_a, zeta
+    line = MooringLines(x=np.array([[0.0, 0.0, 0.0], [10.05, 0.0, 0.0], [19.05, 0.0, 0.0]]),
+                        v=np.array([[0.0, 0.0, 0.0], [0.2, 0.3, 0.4], [0.0, 0.0, 0.0]]),
+                        mass=np.array([4.0, 8.0, 4.0]), prev=np.array([-1, 0, 1]), seg=np.array([0, 0, 1]),
+                        kind=np.array([1, 0, 2]), props=np.array([element, element], LINE_ELEMENT_RECORD),
+                        anchors=np.array([0]), fairleads=np.array([2]), water=LineWater(density=1000.0, level=1.0),
+                        current=np.zeros(3), seabed=Seabed(z=-math.inf, stiffness=0.0, damping_ratio=0.0,
+                                                           friction=0.0, slip_velocity=0.01))
+    catenary = [Segment(600.0, 1.0e3, 5.0e8)]
+    quasi = QuasiStaticLines([[0.0, 0.0, -200.0]], [[500.0, 0.0, 0.0]], [catenary], seabed=True)
+    p = Platform([body], rho_w=1000.0, g=9.81, level=1.0,
+                 groups=[MooringGroup(line, []), MooringGroup(quasi, [])])
+    e = p.energies()
+    assert set(e) == {"body_kinetic_energy", "mooring_kinetic_energy", "mooring_elastic_energy"}
+    assert e["body_kinetic_energy"] == pytest.approx(5052.75, rel=1e-12)
+    assert e["mooring_kinetic_energy"] == pytest.approx(1.16 + 3.125 * math.pi, rel=1e-12)
+    assert quasi.energies()[0] == 0.0
+    qs_strain = strain_energy(catenary, solve_line(catenary, horizontal=500.0, vertical=200.0))
+    assert qs_strain > 0.0
+    assert e["mooring_elastic_energy"] == pytest.approx(125.0 + qs_strain, rel=1e-12)

@@ -150,6 +150,24 @@ def anchor_distance(segments: list[Segment], *, vertical: float, fairlead_tensio
     return x, solve_line(segments, horizontal=x, vertical=vertical)
 
 
+def strain_energy(segments: list[Segment], state: LineState) -> float:
+    """Elastic energy [J] a line stores in its static state: the integral of T^2 / (2 EA) over the
+    unstretched arc length (linear elastic, T = EA x strain). Walks from the anchor as ``profile``:
+    a grounded length carries H; along a suspended one V = V_b + w s, so it adds
+    (H^2 L + ((V_b + w L)^3 - V_b^3) / (3 w)) / (2 EA)."""
+    H = state.horizontal_tension
+    v = state.anchor_vertical
+    ground = state.grounded_length
+    energy = 0.0
+    for seg in segments:
+        on_bed = min(seg.length, ground)
+        ground -= on_bed
+        v_top = v + seg.weight * (seg.length - on_bed)
+        energy += (H * H * seg.length + (v_top ** 3 - v ** 3) / (3.0 * seg.weight)) / (2.0 * seg.ea)
+        v = v_top
+    return energy
+
+
 def profile(segments: list[Segment], state: LineState, points_per_segment: int = 50) -> np.ndarray:
     """(n, 4) rows (unstretched arc length from the anchor [m], x [m], z [m], tension [N]) along the line.
 

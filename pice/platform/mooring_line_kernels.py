@@ -10,8 +10,13 @@ Each node stands for a piece of line of length dl (half pieces at the ends). Per
 Node kinds: 0 free, 1 fixed (anchor), 2 prescribed (fairlead, moved with its body).
 
 Arrays: x, v (n, 3); mass (n,) dry mass [kg]; prev (n,) index of the previous node on the line or -1;
-seg (n,) segment index of the bond from prev to this node; props (n_seg, 8):
-[EA [N], l0 [m], D [m], wet weight [N/m], C_dn, C_dt, C_a, bond damping ratio].
+seg (n,) index of the element (bond) from prev to this node; props (n_elements,) records of
+platform.mooring_lines.LINE_ELEMENT_RECORD: ea [N], l0 [m], diameter D [m], wet_weight [N/m],
+drag_normal C_dn, drag_tangential C_dt, added_mass C_a, damping_ratio (of the bond), read by
+field name as ``props[s]["ea"]`` (numba compiles it to the loads of a column index; plain Python,
+NUMBA_DISABLE_JIT=1, runs it too, which ``props[s].ea`` would not). Scalars as named tuples
+(platform.mooring_lines): water LineWater(density [kg/m^3], level [m]); seabed Seabed(z [m],
+stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]).
 
 Every function here is a numba kernel: a pure function of arrays and scalars (no MPI, no I/O),
 owned by platform.mooring_lines.MooringLines. A sub-step (``verlet_substep``) is written once; the
@@ -32,11 +37,11 @@ FREE, FIXED, PRESCRIBED = 0, 1, 2
 def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass):
     """Forces on every node [N]; bond tensions [N] stored at the bond's upper node; added mass [kg].
 
-    water: (rho_w [kg/m^3], level [m]); current: (3,) [m/s];
-    seabed: (z_bed [m], k_bed [N/m per m of line], zeta_bed, mu_bed, v_slip [m/s]).
+    water: LineWater (density [kg/m^3], level [m]); current: (3,) [m/s]; seabed: Seabed (z [m],
+    stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]).
     """
     n = x.shape[0]
-    rho = water[0]
+    rho = water.density
     for i in range(n):
         force[i, 0] = 0.0
         force[i, 1] = 0.0
@@ -57,8 +62,8 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
         p = prev[i]
         if p < 0:
             continue
-        s = seg[i]
-        ea, l0, zeta = props[s, 0], props[s, 1], props[s, 7]
+        el = props[seg[i]]
+        ea, l0, zeta = el["ea"], el["l0"], el["damping_ratio"]
         d0 = x[i, 0] - x[p, 0]
         d1 = x[i, 1] - x[p, 1]
         d2 = x[i, 2] - x[p, 2]
@@ -77,24 +82,25 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
         force[i, 0] -= t * u0
         force[i, 1] -= t * u1
         force[i, 2] -= t * u2
-        D, half = props[s, 2], 0.5 * l0
+        D, half = el["diameter"], 0.5 * l0
         for node in (p, i):
             tangent[node, 0] += u0
             tangent[node, 1] += u1
             tangent[node, 2] += u2
-            weight[node] += props[s, 3] * half
-            drag_n[node] += props[s, 4] * D * half
-            drag_t[node] += props[s, 5] * math.pi * D * half
-            am[node] += props[s, 6] * 0.25 * math.pi * D * D * half
+            weight[node] += el["wet_weight"] * half
+            drag_n[node] += el["drag_normal"] * D * half
+            drag_t[node] += el["drag_tangential"] * math.pi * D * half
+            am[node] += el["added_mass"] * 0.25 * math.pi * D * D * half
             diam[node] = max(diam[node], D)
             length[node] += half
     # weight, Morison loads and seabed per node
-    z_bed, k_bed, zeta_bed, mu_bed, v_slip = seabed[0], seabed[1], seabed[2], seabed[3], seabed[4]
+    z_bed, k_bed, zeta_bed, mu_bed, v_slip = (seabed.z, seabed.stiffness, seabed.damping_ratio, seabed.friction,
+                                              seabed.slip_velocity)
     for i in range(n):
         force[i, 2] -= weight[i]
         tn = math.sqrt(tangent[i, 0] ** 2 + tangent[i, 1] ** 2 + tangent[i, 2] ** 2)
         t0, t1, t2 = (tangent[i, 0] / tn, tangent[i, 1] / tn, tangent[i, 2] / tn) if tn > 0 else (0.0, 0.0, 1.0)
-        if x[i, 2] <= water[1]:
+        if x[i, 2] <= water.level:
             r0 = current[0] - v[i, 0]
             r1 = current[1] - v[i, 1]
             r2 = current[2] - v[i, 2]
@@ -127,7 +133,7 @@ def accelerate(v, force, mass, added_mass, tangent_of, kind, half_dt):
     prescribed nodes are not integrated (their velocities are set by the caller)."""
     n = v.shape[0]
     for i in range(n):
-        if kind[i] != 0:
+        if kind[i] != FREE:
             continue
         t0, t1, t2 = tangent_of[i, 0], tangent_of[i, 1], tangent_of[i, 2]
         ft = force[i, 0] * t0 + force[i, 1] * t1 + force[i, 2] * t2
@@ -165,7 +171,7 @@ def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, f
     n = x.shape[0]
     accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
     for i in range(n):
-        if kind[i] == 0:
+        if kind[i] == FREE:
             for d in range(3):
                 x[i, d] += dt * v[i, d]
     for j in range(fairleads.shape[0]):
@@ -204,7 +210,7 @@ def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
         ke = 0.0
         worst = 0.0
         for i in range(n):
-            if kind[i] != 0:
+            if kind[i] != FREE:
                 continue
             ke += mass[i] * (v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
             f = math.sqrt(force[i, 0] ** 2 + force[i, 1] ** 2 + force[i, 2] ** 2)
@@ -218,3 +224,33 @@ def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
         if worst < tol and step > 10:
             return step + 1
     return max_steps
+
+
+@njit(**JIT)
+def line_energies(x, v, mass, prev, seg, props, added_mass, tangent):
+    """(kinetic [J], elastic [J]) of the node set.
+
+    Kinetic: 1/2 m |v|^2 of every node plus 1/2 m_a |v_n|^2 of its added mass on the velocity
+    normal to its tangent (the inertia ``accelerate`` integrates; added_mass and tangent as the
+    last force evaluation left them). Elastic: 1/2 EA/l0 (l - l0)^2 of every taut bond (l > l0);
+    a slack bond stores nothing, as it carries no tension in ``line_forces``.
+    """
+    kinetic = 0.0
+    elastic = 0.0
+    for i in range(x.shape[0]):
+        v0, v1, v2 = v[i, 0], v[i, 1], v[i, 2]
+        vt = v0 * tangent[i, 0] + v1 * tangent[i, 1] + v2 * tangent[i, 2]
+        n0, n1, n2 = v0 - vt * tangent[i, 0], v1 - vt * tangent[i, 1], v2 - vt * tangent[i, 2]
+        kinetic += 0.5 * mass[i] * (v0 * v0 + v1 * v1 + v2 * v2) + 0.5 * added_mass[i] * (n0 * n0 + n1 * n1 + n2 * n2)
+        p = prev[i]
+        if p < 0:
+            continue
+        el = props[seg[i]]
+        l0 = el["l0"]
+        d0 = x[i, 0] - x[p, 0]
+        d1 = x[i, 1] - x[p, 1]
+        d2 = x[i, 2] - x[p, 2]
+        l = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        if l > l0:
+            elastic += 0.5 * el["ea"] / l0 * (l - l0) ** 2
+    return kinetic, elastic

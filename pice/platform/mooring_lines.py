@@ -3,18 +3,39 @@
 A line runs from its anchor to its fairlead through segments (Table 5 of Zhu & Ji 2022), each cut
 into elements of at most ``element_length``; the nodes start on the quasi-static elastic catenary
 (platform.catenary), so a line begins close to equilibrium. The physics of a node (bonds, weight,
-Morison drag, seabed) and the sub-step are the numba kernels of platform.mooring_line_kernels.
+Morison drag, seabed) and the sub-step are the numba kernels of platform.mooring_line_kernels;
+their parameters are named records built once here (``build_lines``) and read by field name in
+numba: a structured array of LINE_ELEMENT_RECORD (one record per element) and the LineWater and
+Seabed named tuples.
 """
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .mooring_line_kernels import FIXED, FREE, PRESCRIBED, advance_lines, line_forces, node_tangents, relax_lines
 from .catenary import Segment, profile, solve_line
+from .mooring_line_kernels import (FIXED, FREE, PRESCRIBED, advance_lines, line_energies, line_forces, node_tangents,
+                                   relax_lines)
+
+# One element (bond) of a DEM line: axial stiffness ea [N], unstretched length l0 [m], hydrodynamic
+# diameter D [m], wet_weight [N/m], the Morison coefficients drag_normal C_dn, drag_tangential C_dt
+# and added_mass C_a, and the damping_ratio of the bond's axial dashpot.
+LINE_ELEMENT_RECORD = np.dtype([("ea", np.float64), ("l0", np.float64), ("diameter", np.float64),
+                                ("wet_weight", np.float64), ("drag_normal", np.float64),
+                                ("drag_tangential", np.float64), ("added_mass", np.float64),
+                                ("damping_ratio", np.float64)])
+
+LineWater = namedtuple("LineWater", ["density", "level"])
+LineWater.__doc__ = """The water the lines hang in: density [kg/m^3], level of its surface [m]."""
+
+Seabed = namedtuple("Seabed", ["z", "stiffness", "damping_ratio", "friction", "slip_velocity"])
+Seabed.__doc__ = """The seabed under the lines: height z [m] (-inf: none), penalty stiffness [N/m per m of
+line] (0: none), damping_ratio of its dashpot, Coulomb friction coefficient, slip_velocity [m/s]
+up to which the friction is regularised (proportional to the sliding speed)."""
 
 
 @dataclass(frozen=True)
@@ -41,12 +62,12 @@ class MooringLines:
     prev: np.ndarray
     seg: np.ndarray
     kind: np.ndarray
-    props: np.ndarray
+    props: np.ndarray        # (n_elements,) LINE_ELEMENT_RECORD
     anchors: np.ndarray      # node index of each line's anchor
     fairleads: np.ndarray    # node index of each line's fairlead
-    water: np.ndarray        # (rho_w, level)
-    current: np.ndarray      # (3,)
-    seabed: np.ndarray       # (z_bed, k_bed, zeta_bed, mu_bed, v_slip)
+    water: LineWater
+    current: np.ndarray      # (3,) [m/s]
+    seabed: Seabed
     force: np.ndarray = field(default=None)
     tension: np.ndarray = field(default=None)
     added_mass: np.ndarray = field(default=None)
@@ -70,11 +91,12 @@ class MooringLines:
         """Stability limit of the node chain [s]: 1/sqrt(max k/m) (omega_max = 2 sqrt(k/m) for a chain),
         reduced for the bond dashpots and the seabed spring."""
         bonded = self.prev >= 0
-        k = self.props[self.seg[bonded], 0] / self.props[self.seg[bonded], 1]
+        el = self.props[self.seg[bonded]]
+        k = el["ea"] / el["l0"]
         m = np.minimum(self.mass[bonded], self.mass[self.prev[bonded]])
         omega2 = float(np.max(4.0 * k / m))
-        omega2 += float(self.seabed[1]) * float(np.max(self.props[:, 1])) / float(self.mass.min())
-        zeta = float(max(self.props[:, 7].max(), self.seabed[2]))
+        omega2 += float(self.seabed.stiffness) * float(np.max(self.props["l0"])) / float(self.mass.min())
+        zeta = float(max(self.props["damping_ratio"].max(), self.seabed.damping_ratio))
         return 2.0 / math.sqrt(omega2) * (math.sqrt(1 + zeta * zeta) - zeta)
 
     def advance(self, dt: float, nsub: int, fairlead_x=None, fairlead_v=None) -> None:
@@ -104,6 +126,14 @@ class MooringLines:
         self.v[:] = 0.0
         self._forces()
         return steps
+
+    def energies(self) -> tuple[float, float]:
+        """(kinetic [J], elastic [J]) of the lines (mooring_line_kernels.line_energies): 1/2 m |v|^2
+        of the nodes with their added mass on the normal velocity, and 1/2 EA/l0 (l - l0)^2 of the
+        taut elements (tension only, as the bonds)."""
+        kinetic, elastic = line_energies(self.x, self.v, self.mass, self.prev, self.seg, self.props,
+                                         self.added_mass, self.tangent)
+        return float(kinetic), float(elastic)
 
     def reactions(self, nodes: np.ndarray) -> np.ndarray:
         """(k, 3) force [N] the line exerts on the support at each fixed/prescribed node (its anchor
@@ -170,8 +200,8 @@ def build_lines(lines, *, element_length: float, water_density: float, water_lev
             n_el = max(1, int(math.ceil(s.length / element_length - 1e-9)))
             for k in range(n_el):
                 s_nodes.append(s_nodes[-1] + s.length / n_el)
-                props.append([s.ea, s.length / n_el, s.diameter, s.wet_weight, s.drag_normal,
-                              s.drag_tangential, s.added_mass, bond_damping])
+                props.append((s.ea, s.length / n_el, s.diameter, s.wet_weight, s.drag_normal,
+                              s.drag_tangential, s.added_mass, bond_damping))
         s_nodes = np.asarray(s_nodes)
         px = np.interp(s_nodes, prof[:, 0], prof[:, 1])
         pz = np.interp(s_nodes, prof[:, 0], prof[:, 2])
@@ -188,13 +218,15 @@ def build_lines(lines, *, element_length: float, water_density: float, water_lev
         masses.extend(m)
         anchors.append(base)
         fairleads.append(base + len(s_nodes) - 1)
-    seabed = np.array([seabed_z if seabed_z is not None else -np.inf,
-                       seabed_stiffness if seabed_z is not None else 0.0, seabed_damping, seabed_friction, 0.01])
+    seabed = Seabed(z=float(seabed_z) if seabed_z is not None else -math.inf,
+                    stiffness=float(seabed_stiffness) if seabed_z is not None else 0.0,
+                    damping_ratio=float(seabed_damping), friction=float(seabed_friction), slip_velocity=0.01)
     return MooringLines(x=np.asarray(xs, float), v=np.zeros((len(xs), 3)), mass=np.asarray(masses, float),
                         prev=np.asarray(prevs, np.int64), seg=np.asarray(segs, np.int64),
-                        kind=np.asarray(kinds, np.int64), props=np.asarray(props, float),
+                        kind=np.asarray(kinds, np.int64), props=np.array(props, LINE_ELEMENT_RECORD),
                         anchors=np.asarray(anchors, np.int64), fairleads=np.asarray(fairleads, np.int64),
-                        water=np.array([water_density, water_level]), current=np.asarray(current, float),
+                        water=LineWater(density=float(water_density), level=float(water_level)),
+                        current=np.asarray(current, float),
                         seabed=seabed)
 
 

@@ -122,6 +122,27 @@ class Platform:
                 b.torque = b.torque + np.cross(arm, pull[a.line])
         self.mooring_force = lines_pull(self.groups, len(self.bodies))
 
+    def energies(self) -> dict[str, float]:
+        """Energies [J] of the bodies and the lines:
+
+        body_kinetic_energy     sum of RigidBody.kinetic_energy: 1/2 v_B . (m + m_a) v_B plus the
+                                rotational 1/2 L_B . (I + I_a)^-1 L_B, with the added mass the
+                                equation of motion carries (1/2 m v^2 + 1/2 w . I w without it);
+        mooring_kinetic_energy  1/2 m |v|^2 of the DEM line nodes, with their added mass on the
+                                velocity normal to the line; 0 for quasi-static lines;
+        mooring_elastic_energy  1/2 EA/l0 (l - l0)^2 over the taut DEM elements (tension only, as
+                                the bonds); for quasi-static lines the closed-form strain energy
+                                of each elastic catenary at its last solve, integral T^2/(2 EA) ds.
+        """
+        body = sum(b.kinetic_energy() for b in self.bodies)
+        kinetic = elastic = 0.0
+        for grp in self.groups:
+            k, e = grp.lines.energies()
+            kinetic += k
+            elastic += e
+        return {"body_kinetic_energy": float(body), "mooring_kinetic_energy": kinetic,
+                "mooring_elastic_energy": elastic}
+
     def fairlead_tensions(self) -> np.ndarray:
         """(n_lines,) tension [N] at every fairlead, groups in order."""
         return np.concatenate([g.lines.fairlead_tensions() for g in self.groups]) if self.groups else np.zeros(0)

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .catenary import Segment, profile, solve_line
+from .catenary import Segment, profile, solve_line, strain_energy
 
 
 class QuasiStaticLines:
@@ -57,6 +57,11 @@ class QuasiStaticLines:
             self.fairlead_x[:] = np.asarray(fairlead_x, float).reshape(-1, 3)
         self._update()
         self.time += dt * nsub
+
+    def energies(self) -> tuple[float, float]:
+        """(kinetic [J], elastic [J]): no line dynamics, so no kinetic energy; the elastic energy of
+        each line's elastic catenary at its last solve (catenary.strain_energy, a closed form)."""
+        return 0.0, float(sum(strain_energy(segs, st) for segs, st in zip(self.segments, self.states)))
 
     def reactions(self, nodes: np.ndarray) -> np.ndarray:
         """(k, 3) force [N] of the lines on their fairleads (``nodes`` are line indices)."""

@@ -176,6 +176,15 @@ class RigidBody:
         """Angular velocity, space frame [rad/s]."""
         return angular_velocity(self.q, self.L, self.effective_inertia)
 
+    def kinetic_energy(self) -> float:
+        """Kinetic energy [J] with the inertia the equation of motion carries (body and added mass):
+        1/2 v_B . (m + m_a) v_B, the diagonal added mass acting in the body frame, plus the
+        rotational 1/2 L_B . (I + I_a)^-1 L_B (``rotational_energy``); with no added mass it is
+        1/2 m |v|^2 + 1/2 w . I w."""
+        vb = rotation_matrix(self.q).T @ self.v
+        translational = 0.5 * float(np.sum((self.mass + self.added_mass[:3]) * vb * vb))
+        return translational + float(rotational_energy(self.q, self.L, self.effective_inertia))
+
     def pose_vector(self) -> np.ndarray:
         """(13,) x, q, v, omega: what rank 0 broadcasts to every rank each step."""
         return np.concatenate([self.x, self.q, self.v, self.omega])
