@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pice.kernels.geometry import rotation_matrix
-from pice.platform.hull_buoyancy import brace_submerged, submerged_volume
+from pice.platform.hull_buoyancy import BRACE_RECORD, brace_submerged, submerged_volume
 from pice.platform.hulls import (
     box,
     cylinder,
@@ -105,8 +105,8 @@ def test_semi_submersible_matches_table3():
     assert np.ptp(v[:, 0]) == pytest.approx(86.2, abs=0.5) and np.ptp(v[:, 1]) == pytest.approx(64.6, abs=1e-9)
     mesh_vol = submerged_volume(v, b.triangles, -8.9 + 14.0)[0]
     br = b.braces
-    lengths = np.linalg.norm(br[:, 3:6] - br[:, :3], axis=1)
-    assert vol - mesh_vol == pytest.approx(float(np.sum(math.pi * br[:, 6] ** 2 * lengths)), rel=1e-12)
+    lengths = np.linalg.norm(br["p1"] - br["p0"], axis=1)
+    assert vol - mesh_vol == pytest.approx(float(np.sum(math.pi * br["radius"] ** 2 * lengths)), rel=1e-12)
     f, m, vol_h = b.hydrostatics(rho_w=RHO, g=G, level=-8.9 + 14.0)
     assert vol_h == vol and f[2] == pytest.approx(RHO * G * vol) and np.allclose(m, np.cross(cob, f))
 
@@ -118,9 +118,9 @@ def test_semi_submersible_braces_end_at_the_columns():
     still waterline; the builder and the braces take the same size keywords with the same defaults."""
     v, t = semi_submersible()
     br = semi_submersible_braces()
-    assert br.shape == (4, 7) and np.all(br[:, 6] == 1.25)
+    assert br.shape == (4,) and np.all(br["radius"] == 1.25)
     zp, zw = -8.9 + 8.0, -8.9 + 14.0  # pontoon top, still waterline (body frame)
-    assert np.all(br[:, 2] - br[:, 6] > zp) and np.all(br[:, 2] + br[:, 6] < zw)
+    assert np.all(br["p0"][:, 2] - br["radius"] > zp) and np.all(br["p0"][:, 2] + br["radius"] < zw)
     # ray casting along +z: a point is inside the closed mesh when an odd number of triangles lie above it
     a, b_, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
 
@@ -133,8 +133,8 @@ def test_semi_submersible_braces_end_at_the_columns():
         z = a[:, 2] - (n[:, 0] * (p[0] - a[:, 0]) + n[:, 1] * (p[1] - a[:, 1])) / np.where(n[:, 2] == 0, 1, n[:, 2])
         return int(np.sum(hit & (n[:, 2] != 0) & (z > p[2]))) % 2 == 1
 
-    for row in br:
-        p0, p1, r = row[:3], row[3:6], row[6]
+    for brace in br:
+        p0, p1, r = brace["p0"], brace["p1"], brace["radius"]
         axis = (p1 - p0) / np.linalg.norm(p1 - p0)
         for end, out in ((p0, axis), (p1, -axis)):
             assert inside(end - 0.01 * out) and not inside(end + 0.01 * out)  # on the column face
@@ -173,7 +173,7 @@ def test_braced_hull_loads_match_the_meshed_braces_at_a_pitched_pose():
     far above the tolerance, so the comparison sees them."""
     br = semi_submersible_braces()
     v, t = semi_submersible()
-    meshed = merge([(v, t)] + [cylinder(r[:3], r[3:6], r[6], 256) for r in br])
+    meshed = merge([(v, t)] + [cylinder(r["p0"], r["p1"], r["radius"], 256) for r in br])
     a = math.radians(6.0)
     q = np.array([math.cos(a / 2), 0.0, math.sin(a / 2), 0.0])
     x = np.array([0.0, 0.0, 8.9 - 14.0 + 1.0])
@@ -186,20 +186,21 @@ def test_braced_hull_loads_match_the_meshed_braces_at_a_pitched_pose():
     assert np.linalg.norm(m - m_ref) < 1e-4 * np.linalg.norm(m_ref)
     # at least one brace is cut by the water plane at this pose (Eq. 14's partial-section branch)
     R = rotation_matrix(q)
-    cut = [0.0 < brace_submerged(R @ r[:3] + x, R @ r[3:6] + x, r[6], 0.0, 64)[0]
-           < math.pi * r[6] ** 2 * np.linalg.norm(r[3:6] - r[:3]) for r in br]
+    cut = [0.0 < brace_submerged(R @ r["p0"] + x, R @ r["p1"] + x, r["radius"], 0.0, 64)[0]
+           < math.pi * r["radius"] ** 2 * np.linalg.norm(r["p1"] - r["p0"]) for r in br]
     assert any(cut)
     hull_only = semi()
-    hull_only.braces = np.zeros((0, 7))
+    hull_only.braces = np.zeros(0, BRACE_RECORD)
     hull_only.x, hull_only.q = x, q
     f0, m0, _ = hull_only.hydrostatics(rho_w=RHO, g=G, level=0.0)
     assert abs(f[2] - f0[2]) > 0.01 * f_ref[2] and np.linalg.norm(m - m0) > 0.01 * np.linalg.norm(m_ref)
 
 
 def test_rigid_body_refuses_bad_braces():
-    """Braces must be (k, 7) rows with a positive radius and two distinct ends."""
+    """Braces must be BRACE_RECORD records (p0, p1, radius) with a positive radius and two distinct ends."""
     v, t = box(1.0, 1.0, 1.0)
-    for bad in (np.zeros((2, 6)), [[0, 0, 0, 1, 0, 0, 0.0]], [[0, 0, 0, 0, 0, 0, 1.0]]):
+    for bad in (np.zeros((2, 7)), np.array([((0, 0, 0), (1, 0, 0), 0.0)], BRACE_RECORD),
+                np.array([((0, 0, 0), (0, 0, 0), 1.0)], BRACE_RECORD)):
         with pytest.raises(ValueError, match="brace"):
             RigidBody("b", 1.0, np.ones(3), v, t, braces=bad)
 

@@ -68,6 +68,7 @@ def test_moored_platform_at_rest_stays_put():
     np.testing.assert_allclose(p.fairlead_tensions(), 221.7e3, rtol=0.01)
 
 
+@pytest.mark.nojit
 def test_energies_of_a_spinning_body_and_a_stretched_line_element():
     """Platform.energies against a hand computation [J].
 

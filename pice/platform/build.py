@@ -18,7 +18,7 @@ from ..errors import JobError
 from ..kernels.geometry import rotation_matrix
 from ..physics.contact import contact_law
 from .catenary import Segment
-from .hull_buoyancy import submerged
+from .hull_buoyancy import BRACE_RECORD, submerged
 from .hull_contact import Hull, build_triangle_grid, hull_forces
 from .hulls import box, semi_submersible, semi_submersible_braces
 from .layout import RHO_STEEL, spread_mooring
@@ -161,7 +161,7 @@ def build_platform(job, hulls: list[Hull]) -> Platform:
     pull = lines_pull(groups, len(job.bodies))
     bodies = []
     for k, (spec, hull) in enumerate(zip(job.bodies, hulls)):
-        braces = semi_submersible_braces() if spec.hull.type == "semi_submersible" else np.zeros((0, 7))
+        braces = semi_submersible_braces() if spec.hull.type == "semi_submersible" else np.zeros(0, BRACE_RECORD)
         body = RigidBody(spec.name, _body_mass(job, k, hull, braces, poses[k], pull[k, 2]),
                          np.asarray(spec.inertia, float), hull.vertices, hull.triangles, braces=braces,
                          added_mass=np.asarray(spec.added_mass, float), damping=np.asarray(spec.damping, float),

@@ -8,7 +8,8 @@ the clipped mesh lies in the water plane, so its tetrahedra have zero volume: th
 clipped triangles is the exact submerged volume of the closed mesh, and the volume-weighted
 tetrahedron centroids give the centre of buoyancy. Outward normals (counter-clockwise seen from
 outside) give positive volume. Braces are cylinders sliced along their axes (Eqs. 13-14,
-``brace_submerged``); the body's buoyancy acts at the combined centre of mesh and braces.
+``brace_submerged``), given as records of BRACE_RECORD; the body's buoyancy acts at the combined
+centre of mesh and braces.
 
 The numba kernels (``submerged_volume``, ``brace_submerged``, ``transform``) are pure functions of
 arrays and scalars (no MPI, no I/O); ``submerged`` and ``buoyancy`` are their Python owners, called
@@ -25,6 +26,9 @@ from ..kernels import JIT
 from ..kernels.geometry import rotation_matrix
 
 BRACE_SLICES = 64  # default slices per brace along its axis (Eq. 13)
+
+# One cylindrical brace in the body frame: the ends of its axis p0, p1 (3,) [m] and its radius [m].
+BRACE_RECORD = np.dtype([("p0", np.float64, (3,)), ("p1", np.float64, (3,)), ("radius", np.float64)])
 
 
 @njit(**JIT)
@@ -144,15 +148,16 @@ def hull_in_space(vertices, *, position, attitude) -> np.ndarray:
 def submerged(vertices, triangles, braces, brace_slices: int = BRACE_SLICES, *, position, attitude,
               level: float) -> tuple[float, np.ndarray]:
     """(submerged volume [m^3], centre of buoyancy (3,) [m], space frame) of a hull at a pose: the
-    clipped mesh (Eq. 12) plus the braces, (k, 7) body-frame rows (p0, p1, radius) [m], sliced along
-    their axes (Eqs. 13-14). NaN centre when dry."""
+    clipped mesh (Eq. 12) plus the braces, (k,) BRACE_RECORD in the body frame (p0, p1, radius) [m],
+    sliced along their axes (Eqs. 13-14). NaN centre when dry."""
     vol, cob = submerged_volume(hull_in_space(vertices, position=position, attitude=attitude), triangles, level)
     if len(braces) == 0:
         return vol, cob
     R = rotation_matrix(attitude)
     mom = vol * cob if vol > 0.0 else np.zeros(3)
-    for row in braces:
-        vb, cb = brace_submerged(R @ row[:3] + position, R @ row[3:6] + position, row[6], level, int(brace_slices))
+    for brace in braces:
+        vb, cb = brace_submerged(R @ brace["p0"] + position, R @ brace["p1"] + position, brace["radius"], level,
+                                 int(brace_slices))
         if vb > 0.0:
             vol += vb
             mom = mom + vb * cb

@@ -3,9 +3,9 @@
 Built from parameters (boxes, the semi-submersible of Zhu & Ji 2022) here, or read with meshio
 (platform.build.hull_mesh). Parts of a hull are separate closed meshes that touch without
 overlapping, so the submerged volumes of the parts add up (platform.hull_buoyancy) and the contact
-sees their outer faces. Braces are not triangles but cylinders (p0, p1, radius) whose buoyancy
-follows Eqs. 13-14 (semi_submersible_braces, RigidBody.braces); ``cylinder`` meshes one for
-drawing or checking.
+sees their outer faces. Braces are not triangles but cylinders, records (p0, p1, radius) of
+hull_buoyancy.BRACE_RECORD, whose buoyancy follows Eqs. 13-14 (semi_submersible_braces,
+RigidBody.braces); ``cylinder`` meshes one for drawing or checking.
 """
 
 from __future__ import annotations
@@ -13,6 +13,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+from .hull_buoyancy import BRACE_RECORD
 
 
 def box(lx: float, ly: float, lz: float, centre=(0.0, 0.0, 0.0)) -> tuple[np.ndarray, np.ndarray]:
@@ -97,9 +99,9 @@ def semi_submersible_braces(*, length: float = 86.2, width: float = 64.6, draft:
                             pontoon_width: float = 14.0, pontoon_height: float = 8.0, column: float = 16.68,
                             freeboard: float = 12.0, slope_deg: float = 10.0, cg_above_keel: float = 8.9,
                             brace_diameter: float = 2.5, brace_height: float | None = None) -> np.ndarray:
-    """The braces of ``semi_submersible`` (same size parameters) as cylinders: (4, 7) rows
-    (p0 (3), p1 (3), radius) in the body frame [m], for ``RigidBody(braces=...)``, whose buoyancy
-    follows Eqs. 13-14 (platform.hull_buoyancy.brace_submerged).
+    """The braces of ``semi_submersible`` (same size parameters) as cylinders: (4,) records of
+    hull_buoyancy.BRACE_RECORD (p0 (3,), p1 (3,), radius) in the body frame [m], for
+    ``RigidBody(braces=...)``, whose buoyancy follows Eqs. 13-14 (hull_buoyancy.brace_submerged).
 
     Assumption (the paper gives no drawing; docs/semi_submersible.md): four horizontal braces of
     diameter ``brace_diameter`` join neighbouring columns along their centre lines, their axes
@@ -131,9 +133,9 @@ def semi_submersible_braces(*, length: float = 86.2, width: float = 64.6, draft:
     if x_face <= 0.0 or y_face <= 0.0 or R > column / 2 - lean / 2:
         raise ValueError(f"column = {column:g} m, brace_diameter = {brace_diameter:g} m: the columns overlap "
                          "or the braces are wider than the columns")
-    rows = [(-x_face, sy * cy, zb, x_face, sy * cy, zb, R) for sy in (-1, 1)]   # along x (port, starboard)
-    rows += [(sx * cx, -y_face, zb, sx * cx, y_face, zb, R) for sx in (-1, 1)]  # along y (stern, bow)
-    return np.asarray(rows, float)
+    rows = [((-x_face, sy * cy, zb), (x_face, sy * cy, zb), R) for sy in (-1, 1)]   # along x (port, starboard)
+    rows += [((sx * cx, -y_face, zb), (sx * cx, y_face, zb), R) for sx in (-1, 1)]  # along y (stern, bow)
+    return np.array(rows, BRACE_RECORD)
 
 
 def cylinder(p0, p1, radius: float, n: int = 64) -> tuple[np.ndarray, np.ndarray]:

@@ -140,9 +140,10 @@ class RigidBody:
     damping: np.ndarray = field(default_factory=lambda: np.zeros(6))      # quadratic B [N s^2/m^2, N m s^2]
     current_drag: np.ndarray = field(default_factory=lambda: np.zeros(2))  # 1/2 rho C_d A along x, y [N s^2/m^2]
     prescribed: np.ndarray | None = None  # (k, 7) rows (t, vx, vy, vz, wx, wy, wz): velocity history
-    # (k, 7) rows (p0 (3), p1 (3), radius) [m], body frame: cylindrical braces, buoyancy only (Eqs. 13-14;
-    # no ice contact), e.g. platform.hulls.semi_submersible_braces(); they must not overlap the mesh
-    braces: np.ndarray = field(default_factory=lambda: np.zeros((0, 7)))
+    # (k,) hull_buoyancy.BRACE_RECORD (p0 (3,), p1 (3,), radius) [m], body frame: cylindrical braces,
+    # buoyancy only (Eqs. 13-14; no ice contact), e.g. platform.hulls.semi_submersible_braces(); they
+    # must not overlap the mesh
+    braces: np.ndarray = field(default_factory=lambda: np.zeros(0, hull_buoyancy.BRACE_RECORD))
     brace_slices: int = hull_buoyancy.BRACE_SLICES  # segments per brace along its axis (Eq. 13)
     x: np.ndarray = field(default_factory=lambda: np.zeros(3))    # CG position [m]
     v: np.ndarray = field(default_factory=lambda: np.zeros(3))    # CG velocity [m/s]
@@ -152,16 +153,14 @@ class RigidBody:
     torque: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     def __post_init__(self) -> None:
-        b = np.asarray(self.braces, float)
-        if b.size == 0:
-            b = np.zeros((0, 7))
-        if b.ndim != 2 or b.shape[1] != 7:
-            raise ValueError(f"body {self.name!r}: braces must be (k, 7) rows (p0, p1, radius), got shape {b.shape}")
-        if np.any(b[:, 6] <= 0.0) or np.any(np.linalg.norm(b[:, 3:6] - b[:, :3], axis=1) <= 0.0):
+        b = self.braces
+        if not isinstance(b, np.ndarray) or b.dtype != hull_buoyancy.BRACE_RECORD or b.ndim != 1:
+            raise ValueError(f"body {self.name!r}: braces must be a (k,) array of platform.hull_buoyancy.BRACE_RECORD "
+                             f"(p0, p1, radius), got {getattr(b, 'dtype', type(b).__name__)} of shape {np.shape(b)}")
+        if np.any(b["radius"] <= 0.0) or np.any(np.linalg.norm(b["p1"] - b["p0"], axis=1) <= 0.0):
             raise ValueError(f"body {self.name!r}: every brace needs a radius > 0 m and distinct ends p0, p1")
         if int(self.brace_slices) < 1:
             raise ValueError(f"body {self.name!r}: brace_slices = {self.brace_slices}: must be >= 1")
-        self.braces = b
 
     @property
     def free(self) -> bool:
