@@ -12,16 +12,31 @@ ENERGY_NAMES = ("kinetic_energy", "rotational_energy", "gravity_energy", "buoyan
                 "contact_energy", "wall_energy")
 
 
+PLATFORM_ENERGY_NAMES = ("hull_contact_energy", "body_kinetic_energy", "mooring_kinetic_energy",
+                         "mooring_elastic_energy")
+
+
 def energies(sim) -> dict[str, float]:
-    """Energy budget [J] of the ice, summed over the ranks (collective), and its total."""
+    """Energy budget [J], summed over the ranks (collective), and its total.
+
+    The ice: kinetic, rotational, gravity and buoyancy potentials, bonds, contacts, walls. With
+    bodies also the elastic energy of the ice-hull contacts and (rank 0's) the bodies' kinetic energy
+    and the mooring lines' kinetic and elastic energies. The hydrostatics and drag of the bodies and
+    lines are external work, not counted: the total is conserved only by a scene without them.
+    """
     p, n = sim.p, sim.p.nlocal
     ke = 0.5 * float(np.sum(p.mass[:n] * np.einsum("ij,ij->i", p.v[:n], p.v[:n])))
     kr = 0.5 * float(np.sum(p.inertia[:n] * np.einsum("ij,ij->i", p.w[:n], p.w[:n])))
     pg = float(np.sum(p.mass[:n] * sim.gravity * p.x[:n, 2]))
     pb = sim.water_term.buoyancy_energy(p) if sim.water_term is not None else 0.0
     eb = sim.bond_term.energy(p)
-    parts = sim.comm.sum(np.array([ke, kr, pg, pb, eb, sim.c.contact_energy, sim.c.wall_energy]))
-    out = {k: float(v) for k, v in zip(ENERGY_NAMES, parts)}
+    values, names = [ke, kr, pg, pb, eb, sim.c.contact_energy, sim.c.wall_energy], ENERGY_NAMES
+    if sim.hull_term is not None:
+        platform = sim.platform.energies() if sim.platform is not None else {}
+        values += [sim.hull_term.energy] + [platform.get(k, 0.0) for k in PLATFORM_ENERGY_NAMES[1:]]
+        names += PLATFORM_ENERGY_NAMES
+    parts = sim.comm.sum(np.array(values))
+    out = {k: float(v) for k, v in zip(names, parts)}
     out["total_energy"] = float(parts.sum())
     return out
 

@@ -55,7 +55,8 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
                     continue
                 n[0], n[1], n[2] = d0 / dist, d1 / dist, d2 / dist
             delta = r - dist
-            law = params[wi]
+            law = params[wi]  # a record: fields by name (law["kn"] works with and without JIT)
+            kn, kt, zeta, mu = law["kn"], law["kt"], law["zeta"], law["mu"]
             # velocity of the sphere's contact point (the wall is at rest)
             c0 = -r * n[0]
             c1 = -r * n[1]
@@ -64,10 +65,10 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
             vc1 = v[i, 1] + w[i, 2] * c0 - w[i, 0] * c2
             vc2 = v[i, 2] + w[i, 0] * c1 - w[i, 1] * c0
             vn = vc0 * n[0] + vc1 * n[1] + vc2 * n[2]
-            fn = normal_force(law.kn, law.zeta, mass[i], delta, vn)
+            fn = normal_force(kn, zeta, mass[i], delta, vn)
             ft = hist[i, wi]
             ft[0], ft[1], ft[2], ftm = tangential_force(ft[0], ft[1], ft[2], n[0], n[1], n[2], vc0, vc1, vc2, vn,
-                                                        law.kt, dt, law.mu * fn)
+                                                        kt, dt, mu * fn)
             f0 = fn * n[0] + ft[0]
             f1 = fn * n[1] + ft[1]
             f2 = fn * n[2] + ft[2]
@@ -84,5 +85,5 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
             wall_moment[wi, 0] -= q1 * f2 - q2 * f1
             wall_moment[wi, 1] -= q2 * f0 - q0 * f2
             wall_moment[wi, 2] -= q0 * f1 - q1 * f0
-            energy += contact_energy(law.kn, law.kt, delta, ftm)
+            energy += contact_energy(kn, kt, delta, ftm)
     return energy
