@@ -167,11 +167,6 @@ class MooringLines:
             getattr(self, k)[:] = s[k]
         self.time = float(s["time"])
 
-    def line_nodes(self, line: int) -> np.ndarray:
-        """Node indices of one line, anchor first."""
-        start, end = self.anchors[line], self.fairleads[line]
-        return np.arange(start, end + 1)
-
 
 def build_lines(lines, *, element_length: float, water_density: float, water_level: float,
                 seabed_z: float | None, current=(0.0, 0.0, 0.0), bond_damping: float = 0.0,
