@@ -1,6 +1,15 @@
 """Shared pytest configuration for pice.
 
-Markers (mpi, slow, nojit) are declared in pyproject.toml.
+Tests are sorted by kind into tests/unit, tests/physics, tests/parallel and tests/io; markers (mpi,
+slow, nojit, io) are declared in pyproject.toml.
+
+Shared helpers: tests/scenes.py (small job texts and builders) and tests/launch.py (`pice` and
+`mpiexec` in a subprocess). This file puts tests/ first on sys.path, so every test module imports
+them as ``import scenes`` / ``from launch import ...`` whatever its folder and however pytest is
+started (``python -m pytest tests``, ``mpiexec -n 2 python -m pytest -m mpi tests``, one file, one
+folder): pytest always loads this conftest before the test modules below it. The test folders are
+not packages (no __init__.py): pytest imports each test module by its basename, so basenames must be
+unique across the folders, and no test module imports another.
 
 Under MPI (``mpiexec -n 2 python -m pytest -m mpi``):
   * only rank 0 prints pytest's terminal output;
@@ -10,8 +19,13 @@ Serial runs never import mpi4py here (MPI is not initialised by the conftest).
 """
 import os
 import sys
+from pathlib import Path
 
 import pytest
+
+_TESTS = str(Path(__file__).resolve().parent)
+if _TESTS not in sys.path:
+    sys.path.insert(0, _TESTS)
 
 _MPI_ENV_VARS = ("PMI_RANK", "PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "PMIX_RANK")
 

@@ -4,7 +4,7 @@ Python reads TOML but has no writer, and a study writes each of its variants as 
 run again. Only what a job holds is written: tables, arrays of tables, strings, booleans, integers,
 floats (inf and nan included) and arrays of them. Comments of the original file are not kept.
 
-``tomllib.loads(toml_text(data)) == data`` for every such dict (tests/test_study.py checks it).
+``tomllib.loads(toml_text(data)) == data`` for every such dict (tests/io/test_study.py checks it).
 """
 
 from __future__ import annotations

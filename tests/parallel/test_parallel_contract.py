@@ -12,40 +12,11 @@ decision is identical.
 from __future__ import annotations
 
 import pathlib
-import subprocess
-import sys
 
 import h5py
 import numpy as np
-from launcher import clean_env as _clean_env
-
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-BIN = pathlib.Path(sys.executable).parent
-
-
-def contract_job(tmp_path: pathlib.Path) -> pathlib.Path:
-    """The demo, moved 0.45 m closer to the panel and driven at 2 m/s so it breaks within 2,000 steps."""
-    text = (ROOT / "jobs" / "level_ice_demo.toml").read_text()
-    for old, new in (("origin = [0.0, 0.0]", "origin = [0.45, 0.0]"),
-                     ("velocity = [1.0, 0.0]", "velocity = [2.0, 0.0]"),
-                     ("speed = 1.0 ", "speed = 2.0 "),
-                     ('dt = "auto"', "dt = 1.4e-4"),
-                     ("duration = 3.0 ", "duration = 0.28 "),
-                     ("snapshots = 11", "snapshots = 3"),
-                     ("[bond]\n", "[parallel]\nbalance_every = 400\n\n[bond]\n")):
-        assert old in text, old
-        text = text.replace(old, new)
-    job = tmp_path / "contract.toml"
-    job.write_text(text)
-    return job
-
-
-def _run(job: pathlib.Path, out: pathlib.Path, ranks: int) -> None:
-    cmd = [str(BIN / "pice"), "run", str(job), "-o", str(out)]
-    if ranks > 1:
-        cmd = [str(BIN / "mpiexec"), "-n", str(ranks)] + cmd
-    res = subprocess.run(cmd, env=_clean_env(), capture_output=True, text=True, timeout=600)
-    assert res.returncode == 0, res.stderr[-3000:]
+from launch import pice_run, run_cmd
+from scenes import barge_job, contract_job
 
 
 def _final(out: pathlib.Path):
@@ -62,7 +33,7 @@ def test_one_two_three_ranks_agree(tmp_path):
     results = {}
     for ranks in (1, 2, 3):
         out = tmp_path / f"r{ranks}.h5"
-        _run(job, out, ranks)
+        run_cmd(pice_run(job, out, ranks))
         results[ranks] = _final(out)
     gid1, x1, broken1, wall1, _ = results[1]
     assert len(broken1) > 10, "the contract run must include fracture"
@@ -80,15 +51,13 @@ def test_platform_on_one_and_two_ranks_agrees(tmp_path):
     """Issue 4 contract: a moored barge (DEM lines) hit by a breaking sheet carried by a current,
     2,000 steps on 1 and 2 ranks: body trajectories within 1e-8 m, ice loads and fairlead tensions
     within 1e-8 of their peaks (the reduced hull loads differ only in summation order)."""
-    from test_platform_run import job_text
-
     job = tmp_path / "moored.toml"
-    text = job_text(duration=0.2, series_every=20, current=1.0, drag=1.0, mooring="dem")
+    text = barge_job(duration=0.2, series_every=20, current=1.0, drag=1.0, mooring="dem")
     job.write_text(text.replace("flexural_strength = 0.3e6", "flexural_strength = 0.15e6"))  # it breaks
     series = {}
     for ranks in (1, 2):
         out = tmp_path / f"m{ranks}.h5"
-        _run(job, out, ranks)
+        run_cmd(pice_run(job, out, ranks))
         with h5py.File(out) as f:
             assert f.attrs["status"] == "finished" and int(f.attrs["ranks"]) == ranks
             series[ranks] = {k: f["series"][k][()] for k in ("step", "body_position", "body_rotation",

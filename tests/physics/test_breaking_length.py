@@ -23,14 +23,14 @@ under a contact force of 81 kN vertical; ~15 s wall time.
 """
 
 import math
-import pathlib
 
 import numpy as np
+from scenes import JOBS
 
 from pice.job import load_job
 from pice.simulation import Simulation
 
-JOB = pathlib.Path(__file__).resolve().parents[1] / "jobs" / "breaking_length.toml"
+JOB = JOBS / "breaking_length.toml"
 
 
 def eq_5_18_breaking_length(*, E, nu, t, rho_w, g, alpha):

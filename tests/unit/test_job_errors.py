@@ -19,10 +19,9 @@ import pathlib
 import re
 
 import pytest
+from scenes import REPO
 
 from pice.cli import main
-
-REPO = pathlib.Path(__file__).parents[1]
 
 # A tiny valid job (12 elements, one layer), with the stiffness and strengths of jobs/level_ice_demo.toml.
 BASE = """\

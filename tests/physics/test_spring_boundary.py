@@ -6,13 +6,8 @@ carry F: the boundary force equals F and every tied element lags its anchor by F
 """
 
 import numpy as np
+from scenes import job_from_text
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # pragma: no cover
-    import tomli as tomllib
-
-from pice.job import parse_job
 from pice.simulation import Simulation
 
 JOB = """
@@ -41,7 +36,7 @@ force = [-3.0e4, 0.0, 0.0]
 
 
 def test_spring_boundary_carries_the_load_at_the_drive_speed():
-    job = parse_job(tomllib.loads(JOB), source="spring.toml", text=JOB)
+    job = job_from_text(JOB, source="spring.toml")
     sim = Simulation(job)
     tied = sim.p.anchor_k > 0
     n_tied = int(tied.sum())

@@ -33,15 +33,15 @@ first zero 0.03 m from pi / (2 beta) = 50 m; ~12 s.
 """
 
 import math
-import pathlib
 
 import numpy as np
+from scenes import JOBS
 
 from pice.job import load_job
 from pice.scenes.level_ice import rest_elevation
 from pice.simulation import Simulation
 
-JOB = pathlib.Path(__file__).resolve().parents[1] / "jobs" / "beam_on_foundation.toml"
+JOB = JOBS / "beam_on_foundation.toml"
 
 
 def _lattice(x):

@@ -1,37 +1,29 @@
-"""Checkpoint and restart (issue 5): a killed run, restarted from its last checkpoint, ends where an
+"""Restart after a kill (issue 5): a killed run, restarted from its last checkpoint, ends where an
 uninterrupted run ends -- bit for bit on the same rank count, within 1e-9 m on another -- and a
 SIGKILL at any moment leaves the run file and the last checkpoint readable.
 
-The job is the contract test's fracturing demo (tests/test_parallel_contract.py) for 2,400 steps
+The job is the contract test's fracturing demo (tests/scenes.py, contract_job) for 2,400 steps
 with a checkpoint every 600 steps. Runs are real `pice run` processes (1 rank, or `mpiexec -n 2`),
-killed with SIGKILL (every process of the MPI job) or interrupted with SIGINT.
+killed with SIGKILL (every process of the MPI job) or interrupted with SIGINT. The in-process
+checkpoint checks are in tests/io/test_checkpoint.py.
 """
 
 from __future__ import annotations
 
-import os
 import pathlib
 import random
 import shutil
 import signal
-import subprocess
-import sys
 import time
 
 import h5py
 import numpy as np
 import pytest
-from launcher import clean_env as _clean_env
+from launch import kill9, pice_run, run_cmd, start
+from scenes import contract_job
 
-from pice.cli import main
-from pice.io.checkpoint import CheckpointError, default_path, read_checkpoint, write_checkpoint
-from pice.job import parse_job
-from pice.parallel.comm import SerialComm
-from pice.simulation import Simulation
-from pice.state import PER_PARTICLE
+from pice.io.checkpoint import default_path, read_checkpoint
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-BIN = pathlib.Path(sys.executable).parent
 DT = 1.4e-4
 STEPS = 2400
 CKPT_EVERY = 600
@@ -40,87 +32,17 @@ SERIES = ("time", "step", "bonds", "broken_bonds", "contacts", "kinetic_energy",
 
 def demo_job(folder: pathlib.Path, name: str = "ckpt", *, steps: int = STEPS, ckpt_every: int = CKPT_EVERY,
              series_every: int = 100, snapshots: int = 3) -> pathlib.Path:
-    """The contract test's job (the demo, closer to the panel, driven at 2 m/s: it breaks early)."""
-    text = (ROOT / "jobs" / "level_ice_demo.toml").read_text()
-    for old, new in (("origin = [0.0, 0.0]", "origin = [0.45, 0.0]"),
-                     ("velocity = [1.0, 0.0]", "velocity = [2.0, 0.0]"),
-                     ("speed = 1.0 ", "speed = 2.0 "),
-                     ('dt = "auto"', f"dt = {DT}"),
-                     ("duration = 3.0 ", f"duration = {steps * DT!r}\ncheckpoint_every = {ckpt_every * DT!r} "),
-                     ("series_every = 500 ", f"series_every = {series_every} "),
-                     ("snapshots = 11", f"snapshots = {snapshots}"),
-                     ("[bond]\n", "[parallel]\nbalance_every = 400\n\n[bond]\n")):
-        assert old in text, old
-        text = text.replace(old, new)
-    job = folder / f"{name}.toml"
-    job.write_text(text)
-    return job
+    """The contract test's job for ``steps`` steps with a checkpoint every ``ckpt_every`` (0: none)."""
+    return contract_job(folder, name, dt=DT, duration=steps * DT, checkpoint_every=ckpt_every * DT,
+                        series_every=series_every, snapshots=snapshots)
 
 
-def _cmd(job, out, ranks, *extra):
-    cmd = [str(BIN / "pice"), "run", str(job), "-o", str(out), *map(str, extra)]
-    return [str(BIN / "mpiexec"), "-n", str(ranks)] + cmd if ranks > 1 else cmd
-
-
-def _run(job, out, ranks, *extra, expect=0):
-    res = subprocess.run(_cmd(job, out, ranks, *extra), env=_clean_env(), capture_output=True, text=True,
-                         timeout=600)
-    assert res.returncode == expect, res.stderr[-3000:]
-    return res
+def _run(job, out, ranks, *extra):
+    return run_cmd(pice_run(job, out, ranks, *extra))
 
 
 def _start(job, out, ranks):
-    return subprocess.Popen(_cmd(job, out, ranks), env=_clean_env(), stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True)
-
-
-def _descendants(pid: int) -> list[int]:
-    """Every process below ``pid`` (mpiexec -> hydra proxy -> ranks), from /proc."""
-    children: dict[int, list[int]] = {}
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                stat = pathlib.Path(f"/proc/{entry}/stat").read_text()
-            except OSError:
-                continue
-            ppid = int(stat.rsplit(")", 1)[1].split()[1])
-            children.setdefault(ppid, []).append(int(entry))
-    out, todo = [], [pid]
-    while todo:
-        for child in children.get(todo.pop(), []):
-            out.append(child)
-            todo.append(child)
-    return out
-
-
-def _kill9(proc: subprocess.Popen) -> None:
-    """SIGKILL the run: every rank, the proxy and the launcher at once (a crashed node)."""
-    pids = [*_descendants(proc.pid), proc.pid]
-    for pid in pids:
-        try:
-            os.kill(pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-    proc.wait(timeout=30)
-    deadline = time.monotonic() + 30
-    while any(_alive(pid) for pid in pids) and time.monotonic() < deadline:
-        time.sleep(0.01)  # the ranks are not our children: wait until every thread is gone (and its file locks)
-
-
-def _alive(pid: int) -> bool:
-    """Has the process a thread that is not yet dead (a zombie leader may have live threads)?"""
-    try:
-        tasks = os.listdir(f"/proc/{pid}/task")
-    except OSError:
-        return False
-    for tid in tasks:
-        try:
-            state = pathlib.Path(f"/proc/{pid}/task/{tid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-        except OSError:
-            continue
-        if state not in "ZX":
-            return True
-    return False
+    return start(pice_run(job, out, ranks))
 
 
 def _ckpt_step(path: pathlib.Path) -> int:
@@ -177,7 +99,7 @@ class Killed:
         # a checkpoint exists and the run file has rows beyond it: those must not appear twice
         _wait(proc, lambda: (s := _ckpt_step(ckpt)) > 0 and _last_row_step(self.run) > s,
               "a checkpoint and a series row after it")
-        _kill9(proc)
+        kill9(proc)
         assert proc.returncode == -signal.SIGKILL
         _check_readable(self.run, ckpt)
         self.ckpt = folder / "killed.ckpt.saved.h5"
@@ -285,7 +207,7 @@ def test_sigkill_at_random_moments_leaves_run_file_and_checkpoint_readable(tmp_p
         for d, proc in sorted(zip(deadline, procs), key=lambda t: t[0]):
             time.sleep(max(0.0, d - time.monotonic()))
             assert proc.poll() is None, f"the run ended ({proc.returncode}) before it was killed: {proc.stderr.read()}"
-            _kill9(proc)
+            kill9(proc)
         for run in runs:
             step, rows = _check_readable(run, default_path(run))
             assert step >= 100 and rows > 0
@@ -319,99 +241,3 @@ def test_sigint_writes_a_final_checkpoint_and_exits_130(killed1, tmp_path):
     # on one rank the interrupted run continues exactly as if never stopped
     _run(job, run, 1, "--restart", ckpt)
     _assert_bitwise(_final(run), _final(killed1.reference))
-
-
-# -- in-process checks (serial) --------------------------------------------------------------------
-
-TINY = {
-    "run": {"duration": 0.02, "dt": 2e-4, "series_every": 10, "snapshots": 2},
-    "water": {"density": 1035.0, "current": [1.0, 0.0]},
-    "ice": {"length": 6.0, "width": 4.0, "velocity": [1.0, 0.0]},
-    "bond": {"normal_stiffness": 1.72e7, "normal_strength": 1.5e6, "friction": 0.3},
-    "walls": [{"name": "slope", "type": "plane", "point": [6.53, 0.0, 0.0],
-               "normal": [-0.7071068, 0.0, 0.7071068]}],
-}
-
-
-def _tiny(**changes):
-    data = {k: dict(v) if isinstance(v, dict) else v for k, v in TINY.items()}
-    for key, value in changes.items():
-        section, name = key.split(".")
-        data[section][name] = value
-    return parse_job(data, source="tiny.toml", text=repr(data))
-
-
-def test_checkpoint_round_trip_continues_bit_for_bit(tmp_path):
-    job = _tiny()
-    a = Simulation(job, comm=SerialComm())
-    a.advance(60)
-    path = write_checkpoint(a, tmp_path / "tiny.ckpt.h5")
-    assert not (tmp_path / "tiny.ckpt.h5.tmp").exists()
-    a.rebuild_for_checkpoint()
-    data = read_checkpoint(path)
-    assert data["attrs"]["step"] == 60 and data["attrs"]["ranks"] == 1 and data["attrs"]["dt"] == a.dt
-    b = Simulation.from_checkpoint(job, data, comm=SerialComm())
-    assert b.c.step == a.c.step and b.c.time == a.c.time and b.c.broken == a.c.broken
-    for name in (*PER_PARTICLE, "bond_j"):
-        assert np.array_equal(getattr(a.p, name), getattr(b.p, name)), name
-    a.advance(40)
-    b.advance(40)
-    for name in ("x", "v", "w", "force", "bond_hist", "contact_hist", "wall_hist"):
-        assert np.array_equal(getattr(a.p, name), getattr(b.p, name)), name
-    ra, rb = a.series_row(), b.series_row()
-    assert ra.keys() == rb.keys()
-    for key in ra:
-        assert np.array_equal(ra[key], rb[key]), key
-
-
-def test_restart_refuses_another_dt_or_other_physics(tmp_path):
-    a = Simulation(_tiny(), comm=SerialComm())
-    a.advance(5)
-    data = read_checkpoint(write_checkpoint(a, tmp_path / "c.h5"))
-    with pytest.raises(CheckpointError, match=r"written with dt = 0\.0002 s.*now gives dt = 0\.0001 s"):
-        Simulation.from_checkpoint(_tiny(**{"run.dt": 1e-4}), data, comm=SerialComm())
-    with pytest.raises(CheckpointError, match=r"physics differs.*bond\.normal_strength = 2000000\.0 "
-                                              r"\(checkpoint: 1500000\.0\)"):
-        Simulation.from_checkpoint(_tiny(**{"bond.normal_strength": 2.0e6}), data, comm=SerialComm())
-    # the schedule may change: a longer run continues from the checkpoint
-    b = Simulation.from_checkpoint(_tiny(**{"run.duration": 0.04, "run.snapshots": 5}), data, comm=SerialComm())
-    assert b.c.step == 5
-
-
-def test_restart_cli_errors(tmp_path, capsys):
-    job = tmp_path / "tiny.toml"
-    job.write_text('[run]\nduration = 0.004\ndt = 2e-4\ncheckpoint_every = 0.002\n[ice]\nlength = 3.0\n'
-                   'width = 2.0\n[bond]\nnormal_stiffness = 1.72e7\nnormal_strength = 1.5e6\n')
-    out = tmp_path / "tiny.h5"
-    assert main(["run", str(job), "-o", str(out)]) == 0
-    ckpt = tmp_path / "tiny.ckpt.h5"
-    assert read_checkpoint(ckpt)["attrs"]["step"] == 20  # the last one, at the end of the run
-    capsys.readouterr()
-    assert main(["run", str(job), "-o", str(out), "--restart", str(tmp_path / "none.h5")]) == 6
-    assert "checkpoint not found" in capsys.readouterr().err
-    assert main(["run", str(job), "-o", str(out), "--restart", str(out)]) == 6
-    assert "not a pice checkpoint" in capsys.readouterr().err
-    assert main(["run", str(job), "-o", str(tmp_path / "other.h5"), "--restart", str(ckpt)]) == 4
-    assert "run file not found" in capsys.readouterr().err
-    job.write_text(job.read_text().replace("length = 3.0", "length = 4.0"))
-    assert main(["run", str(job), "-o", str(out), "--restart", str(ckpt)]) == 6
-    assert "ice.length = 4.0 (checkpoint: 3.0)" in capsys.readouterr().err
-
-
-def test_default_checkpoint_path():
-    assert default_path("runs/demo.h5") == pathlib.Path("runs/demo.ckpt.h5")
-    assert default_path("out/run") == pathlib.Path("out/run.ckpt.h5")
-
-
-def test_unwritable_checkpoint_stops_the_run_with_a_clear_error(tmp_path, capsys):
-    blocker = tmp_path / "not_a_folder"
-    blocker.write_text("a file where the checkpoint's folder should be")
-    job = tmp_path / "tiny.toml"
-    job.write_text('[run]\nduration = 0.004\ndt = 2e-4\nseries_every = 5\ncheckpoint_every = 0.002\n'
-                   f'checkpoint = "{blocker / "c.h5"}"\n[ice]\nlength = 3.0\nwidth = 2.0\n'
-                   '[bond]\nnormal_stiffness = 1.72e7\nnormal_strength = 1.5e6\n')
-    out = tmp_path / "tiny.h5"
-    assert main(["run", str(job), "-o", str(out)]) == 6
-    assert "cannot write the checkpoint" in capsys.readouterr().err
-    with h5py.File(out) as f:  # the run file keeps its rows and says why it stopped
-        assert f.attrs["status"] == "failed" and f["series/step"][-1] == 10

@@ -6,7 +6,7 @@
   exit status 2, and nothing is run or written;
 * the metrics of a hand-made run file whose series are known (values worked out in the comments);
 * the TOML writer gives back what it was given (tomllib round trip);
-* one end-to-end study of two time steps on the 22-element slope job of tests/test_run_file.py.
+* one end-to-end study of two time steps on the 22-element slope job of tests/io/test_run_file.py.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import pathlib
 import h5py
 import numpy as np
 import pytest
-from tiny_jobs import slope_job
+from scenes import JOBS, barge_job, slope_job, tomllib
 
 from pice.cli import main
 from pice.errors import JobError
@@ -28,38 +28,11 @@ from pice.job import load_job, parse_job
 from pice.study.metrics import change_percent, compare, run_metrics
 from pice.study.variants import key_path, make_variants, parse_vary, split_values, toml_value
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # pragma: no cover
-    import tomli as tomllib
-
-REPO = pathlib.Path(__file__).parents[1]
-
-# the slope job of tests/test_run_file.py, 0.05 s: 22 elements, touching the slope within 0.05 s
+# the slope job of tests/io/test_run_file.py, 0.05 s: 22 elements, touching the slope within 0.05 s
 WALL_JOB = slope_job(duration=0.05, snapshots=1)
 
-# a moored barge (the job of tests/test_platform_run.py), only validated here, never run
-MOORED_JOB = WALL_JOB.replace('[[walls]]\nname = "slope"\ntype = "plane"\npoint = [6.53, 0.0, 0.0]\n'
-                              'normal = [-0.7071068, 0.0, 0.7071068]\n', "") + """\
-[[bodies]]
-name = "barge"
-hull = {type = "box", size = [20.0, 16.0, 6.0]}
-mass = "balance"
-inertia = [4.0e8, 6.0e8, 9.0e8]
-position = [22.05, 0.3, 0.0]
-[[moorings]]
-body = "barge"
-fairleads = [[32.05, 8.3, -3.0], [12.05, 8.3, -3.0], [12.05, -7.7, -3.0], [32.05, -7.7, -3.0]]
-headings = [45.0, 135.0, 225.0, 315.0]
-anchor_depth = 57.0
-pretension = 20.0e3
-[[moorings.segments]]
-length = 120.0
-ea = 5.0e8
-diameter = 0.05
-wet_weight = 150.0
-"""
-MOORED_JOB = MOORED_JOB.replace("current = [1.0, 0.0]\n", "current = [1.0, 0.0]\ndepth = 60.0\n")
+# the moored barge of tests/physics/test_platform_coupling.py, only validated here, never run
+MOORED_JOB = barge_job(mooring="dem")
 
 
 def write(tmp_path: pathlib.Path, text: str, name: str = "tiny.toml") -> pathlib.Path:
@@ -211,7 +184,7 @@ def test_toml_text_round_trips():
                           "hull": {"size": [1.0, 2.0, 3.0]}}],
             "a key": {"x.y": 1}}
     assert tomllib.loads(toml_text(data, header="two\nlines")) == data
-    demo = tomllib.loads((REPO / "jobs" / "level_ice_demo.toml").read_text())
+    demo = tomllib.loads((JOBS / "level_ice_demo.toml").read_text())
     assert tomllib.loads(toml_text(demo)) == demo
 
 

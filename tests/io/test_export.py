@@ -11,7 +11,7 @@ import h5py
 import meshio
 import numpy as np
 import pytest
-from tiny_jobs import slope_job
+from scenes import slope_job
 
 from pice.cli import main
 

@@ -1,6 +1,6 @@
 """Numerical stability at the extremes of the reference scene's parameters (issue 6).
 
-A moored box barge hit by a small sheet (tests/test_platform_run.py), pushed to the corners: ice
+A moored box barge hit by a small sheet (tests/scenes.py, barge_job), pushed to the corners: ice
 0.3 to 3 m thick, current 0.05 to 3 m/s, time steps from 0.1 to 0.95 of the stability limit,
 stiff and slack moorings. Each run must finish without the runaway check firing, with every
 element's and the body's speed bounded and no energy created: the ice's kinetic energy stays
@@ -15,7 +15,7 @@ import re
 
 import numpy as np
 import pytest
-from test_platform_run import job_text, make
+from scenes import barge_job, job_from_text
 
 from pice.errors import JobError
 from pice.simulation import Simulation
@@ -26,7 +26,7 @@ STEPS = 1500
 
 
 def scene(*, thickness=1.0, current=1.0, safety=0.5, pretension=20.0e3, element_length=10.0):
-    text = job_text(duration=1.0, current=current, drag=1.0, mooring="dem")
+    text = barge_job(duration=1.0, current=current, drag=1.0, mooring="dem")
     edits = (("dt = 1.0e-4", f'dt = "auto"\ndt_safety = {safety}'),
              ("thickness = 1.0", f"thickness = {thickness}\nelement_volume = \"cell\""),
              ("velocity = [1.0, 0.0]", f"velocity = [{current}, 0.0]"),
@@ -35,7 +35,7 @@ def scene(*, thickness=1.0, current=1.0, safety=0.5, pretension=20.0e3, element_
     for old, new in edits:
         assert old in text, old
         text = text.replace(old, new, 1)
-    return make(text)
+    return job_from_text(text, source="platform.toml")
 
 
 class Run:

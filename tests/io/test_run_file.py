@@ -2,7 +2,7 @@
 
 import h5py
 import numpy as np
-from tiny_jobs import slope_job
+from scenes import slope_job
 
 from pice.cli import main
 

@@ -1,0 +1,146 @@
+"""Small scenes shared by the tests (not a test module): job texts and the builders that parse them.
+
+Every test folder (unit, physics, parallel, io) imports this as ``scenes``: tests/conftest.py puts
+tests/ on sys.path.
+
+* ``slope_job``: a 6 m x 4 m sheet carried at 1 m/s onto a 45-degree plane (run file, export,
+  study, checkpoint tests);
+* ``barge_job``: 12 m x 10 m of 1 m ice hitting a moored 20 m x 16 m x 6 m box barge (platform
+  coupling, output, extremes, the 1-rank vs 2-rank platform contract);
+* ``contract_job``: the level-ice demo moved closer to its panel and driven faster, so that it
+  breaks within 2,000 steps (the rank contract, checkpoints, parallel HDF5);
+* ``job_from_text``: a TOML text parsed as a job, as `pice` reads a file (``tomllib``: the standard
+  library's, or tomli on Python 3.10).
+"""
+
+from __future__ import annotations
+
+import pathlib
+
+from pice.job import parse_job
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover
+    import tomli as tomllib
+
+REPO = pathlib.Path(__file__).resolve().parents[1]
+JOBS = REPO / "jobs"
+
+
+def job_from_text(text: str, *, source: str = "job.toml", base_dir: pathlib.Path | None = None):
+    """The job of a TOML text (pice.job.parse_job on tomllib's reading, with the text kept)."""
+    return parse_job(tomllib.loads(text), source=source, text=text, base_dir=base_dir)
+
+
+def slope_job(*, duration: float, snapshots: int, series_every: int = 2, dt: float | None = None) -> str:
+    """A 6 m x 4 m sheet of Table 4 bonds carried at 1 m/s onto a 45-degree plane: clear of the sheet
+    at t = 0 and touched within 0.05 s. ``dt`` [s] replaces the automatic step."""
+    step = "" if dt is None else f"dt = {dt!r}\n"
+    return f"""\
+[run]
+duration = {duration}
+{step}series_every = {series_every}
+snapshots = {snapshots}
+[water]
+density = 1035.0
+current = [1.0, 0.0]
+[ice]
+length = 6.0
+width = 4.0
+velocity = [1.0, 0.0]
+[bond]
+normal_stiffness = 1.72e7
+normal_strength = 1.5e6
+friction = 0.3
+[[walls]]
+name = "slope"
+type = "plane"
+point = [6.53, 0.0, 0.0]
+normal = [-0.7071068, 0.0, 0.7071068]
+"""
+
+
+# 12 m x 10 m of 1 m ice at 1 m/s, its front 0.05 m from a 20 m x 16 m x 6 m box barge
+_BARGE = """\
+[run]
+duration = {duration}
+dt = 1.0e-4
+series_every = {series_every}
+snapshots = 3
+
+[water]
+density = 1025.0
+current = [{current}, 0.0]
+drag_coefficient = {drag}
+depth = 60.0
+
+[ice]
+thickness = 1.0
+element_diameter = 1.0
+length = 12.0
+width = 10.0
+origin = [0.0, -5.0]
+velocity = [1.0, 0.0]
+youngs_modulus = 1.0e9
+flexural_strength = 0.3e6
+compressive_strength = 1.5e6
+
+[bond]
+damping_ratio = 0.05
+
+[[bodies]]
+name = "barge"
+hull = {{type = "box", size = [20.0, 16.0, 6.0]}}
+mass = "balance"
+inertia = [4.0e8, 6.0e8, 9.0e8]
+position = [22.05, 0.3, 0.0]
+{body_extra}
+"""
+
+# four 120 m lines at 45 degrees to the barge's sides, anchored 57 m below the fairleads, 20 kN pretension
+_MOORING = """
+[[moorings]]
+body = "barge"
+model = "{model}"
+fairleads = [[32.05, 8.3, -3.0], [12.05, 8.3, -3.0], [12.05, -7.7, -3.0], [32.05, -7.7, -3.0]]
+headings = [45.0, 135.0, 225.0, 315.0]
+anchor_depth = 57.0
+pretension = 20.0e3
+element_length = 10.0
+[[moorings.segments]]
+length = 120.0
+ea = 5.0e8
+diameter = 0.05
+wet_weight = 150.0
+"""
+
+
+def barge_job(*, duration=0.05, series_every=50, current=0.0, drag=0.0, body_extra="", mooring=None) -> str:
+    """The barge scene's text; ``mooring`` = "dem" or "quasi_static" adds the four lines."""
+    text = _BARGE.format(duration=duration, series_every=series_every, current=current, drag=drag,
+                         body_extra=body_extra)
+    return text + (_MOORING.format(model=mooring) if mooring else "")
+
+
+def contract_job(folder: pathlib.Path, name: str = "contract", *, dt: float = 1.4e-4, duration: float = 0.28,
+                 checkpoint_every: float | None = None, series_every: int = 500, snapshots: int = 3) -> pathlib.Path:
+    """jobs/level_ice_demo.toml moved 0.45 m closer to its panel and driven at 2 m/s, so that it breaks
+    within 2,000 steps (0.28 s at dt = 1.4e-4 s), with a rebalance every 400 steps; written to
+    ``folder/name.toml`` (the folder is made), whose path is returned."""
+    text = (JOBS / "level_ice_demo.toml").read_text()
+    ckpt = "" if checkpoint_every is None else f"\ncheckpoint_every = {checkpoint_every!r}"
+    for old, new in (("origin = [0.0, 0.0]", "origin = [0.45, 0.0]"),
+                     ("velocity = [1.0, 0.0]", "velocity = [2.0, 0.0]"),
+                     ("speed = 1.0 ", "speed = 2.0 "),
+                     ('dt = "auto"', f"dt = {dt!r}"),
+                     ("duration = 3.0 ", f"duration = {duration!r}{ckpt} "),
+                     ("series_every = 500 ", f"series_every = {series_every} "),
+                     ("snapshots = 11", f"snapshots = {snapshots}"),
+                     ("[bond]\n", "[parallel]\nbalance_every = 400\n\n[bond]\n")):
+        assert old in text, old
+        text = text.replace(old, new)
+    folder.mkdir(parents=True, exist_ok=True)
+    job = folder / f"{name}.toml"
+    job.write_text(text)
+    return job
