@@ -6,7 +6,8 @@ top surges with 75 mm amplitude and a 1.58 s period). For each element count the
 max and mean top tension over the last three periods (after three periods of spin-up from rest, the
 motion ramped in over the first) and the vertical range of the point 0.8 m from the top, with the
 wall time, next to the static elastic catenary references (`static_reference`); with --plot it
-saves both traces (pice/postproc/towed_line.py). tests/test_towed_line.py runs 10 and 20 elements.
+saves both traces (pice/postproc/towed_line.py). tests/physics/test_towed_line.py runs 10, 20 and
+40 elements.
 
     python benchmarks/towed_line.py [--elements 10,20,40,80] [--plot towed.png]
 """

@@ -6,7 +6,7 @@ from the anchor on the tank floor, in fresh water; the top surges with 75 mm amp
 period, ramped in over the first period. ``run(n)`` tows the line of ``n`` elements and returns its
 traces and statistics over the last three periods; ``static_reference()`` gives the static elastic
 catenary references. benchmarks/towed_line.py prints the study (and plots it with
-pice.postproc.towed_line); tests/test_towed_line.py and tests/test_mooring_dem.py check it.
+pice.postproc.towed_line); tests/physics/test_towed_line.py checks it.
 """
 
 from __future__ import annotations
