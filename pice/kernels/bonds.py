@@ -53,31 +53,13 @@ def _project_keep_magnitude(h, i, s, o, n0, n1, n2):
     h[i, s, o], h[i, s, o + 1], h[i, s, o + 2] = a0 * sc, a1 * sc, a2 * sc
 
 
-@njit(**JIT)
-def bond_update(a, b, x, v, w, radius, L0, hist, law, dt, out_force, out_moment_a, out_moment_b):
-    """Advance one bond's history by one step and return its failure state.
-
-    Args:
-        a, b: local indices of the lower-gid and higher-gid ends.
-        hist: (8,) history in the canonical orientation, updated in place.
-        out_force: (3,) force on end a [N] (end b receives the opposite), written.
-        out_moment_a, out_moment_b: (3,) moments on each end [N m], written.
-
-    Returns:
-        The failure mode: INTACT, TENSION_BENDING (Eq. 3) or SHEAR_TWIST (Eqs. 4-5).
-    """
-    h3 = hist.reshape((1, 1, hist.shape[0]))
-    r = _bond_core(a, b, x, v, w, radius, L0, h3, 0, 0, law, dt)
-    # r mixes an int and floats: numba can index such a tuple with constants only
-    out_force[0], out_force[1], out_force[2] = r[1], r[2], r[3]
-    out_moment_a[0], out_moment_a[1], out_moment_a[2] = r[4], r[5], r[6]
-    out_moment_b[0], out_moment_b[1], out_moment_b[2] = r[7], r[8], r[9]
-    return r[0]
-
-
 @njit(**JIT, inline="always")
 def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
-    """bond_update on H[i, s, :], returning (mode, force on a (3), moment on a (3), moment on b (3))."""
+    """Advance the history H[i, s, :] (8,: shear force (3), twisting moment, bending moment (3), tension,
+    canonical orientation) of the bond between a (the lower-gid end) and b by one step; return
+    (mode, force on a (3), moment on a (3), moment on b (3)): the failure mode (INTACT,
+    TENSION_BENDING or SHEAR_TWIST; all zeros with a failure) and the loads [N], [N m] (b receives
+    the opposite force)."""
     kn, ks, kt, kb = law.kn, law.ks, law.kt, law.kb
     A, I, J, R = law.area, law.inertia, law.polar, law.disk_radius
     dx0 = x[b, 0] - x[a, 0]
@@ -137,16 +119,18 @@ def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
 
 @njit(**JIT)
 def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0, bond_hist,
-                law, dt, force, torque, events, max_events):
+                law, dt, force, torque, events):
     """Add the forces of every intact bond touching an owned particle; break failed bonds.
 
     Args:
-        events: (max_events, 4) int64 log of bonds broken this call: (gid_a, gid_b, mode, 0).
+        events: (max_events, 3) int64 log of bonds broken this call: (gid_a, gid_b, mode); the
+            breaks beyond its length are counted but not logged.
 
     Returns:
         Number of bonds broken in this call (counted once per bond on this rank).
     """
     nslots = bond_j.shape[1]
+    max_events = events.shape[0]
     nbroken = 0
     for i in range(nlocal):
         for s in range(nslots):
@@ -172,7 +156,6 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
                         events[nbroken, 0] = gid[a]
                         events[nbroken, 1] = gid[b]
                         events[nbroken, 2] = r[0]
-                        events[nbroken, 3] = 0
                     nbroken += 1
                 continue
             sign = 1.0 if i_is_a else -1.0

@@ -155,14 +155,14 @@ class BondTerm:
 
     def __init__(self, law: BondLaw):
         self.law = law
-        self._events = np.zeros((self.max_events, 4), dtype=np.int64)
+        self._events = np.zeros((self.max_events, 3), dtype=np.int64)  # gid_a, gid_b, mode
 
     def add_forces(self, p, c, dt):
         nb = bond_forces(p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.bond_j, p.bond_mate, p.bond_gid,
-                         p.bond_L0, p.bond_hist, self.law, dt, p.force, p.torque, self._events, self.max_events)
+                         p.bond_L0, p.bond_hist, self.law, dt, p.force, p.torque, self._events)
         if nb:
             c.broken += nb
-            for a, b, mode, _ in self._events[:min(nb, self.max_events)]:
+            for a, b, mode in self._events[:min(nb, self.max_events)]:
                 c.events.append((c.step, c.time, int(a), int(b), int(mode)))
 
     def energy(self, p) -> float:

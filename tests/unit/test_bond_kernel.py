@@ -58,9 +58,9 @@ def _pair_forces(gid, x, v, w, radius, hist, *, L0=0.95, dt=1e-4):
         bond_j[i, 0], bond_gid[i, 0], bond_mate[i, 0], bond_L0[i, 0] = 1 - i, gid[1 - i], 0, L0
         bond_hist[i, 0] = hist
     force, torque = np.zeros((2, 3)), np.zeros((2, 3))
-    events = np.zeros((4, 4), dtype=np.int64)
+    events = np.zeros((4, 3), dtype=np.int64)
     assert bond_forces(2, np.asarray(gid, np.int64), x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0,
-                       bond_hist, _kernel_params(), dt, force, torque, events, 4) == 0
+                       bond_hist, _kernel_params(), dt, force, torque, events) == 0
     return force, torque, bond_hist[int(np.argmin(gid)), 0].copy()
 
 
@@ -89,9 +89,9 @@ def test_kernel_newtons_third_law_and_moment_balance(seed):
     bond_L0[0, 0] = bond_L0[1, 2] = L0
     bond_hist[0, 0] = bond_hist[1, 2] = hist
     force, torque = np.zeros((2, 3)), np.zeros((2, 3))
-    events = np.zeros((4, 4), dtype=np.int64)
+    events = np.zeros((4, 3), dtype=np.int64)
     nb = bond_forces(2, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0, bond_hist, params, 1e-4,
-                     force, torque, events, 4)
+                     force, torque, events)
     assert nb == 0
     F = force[0]
     assert np.linalg.norm(F) > 1e3 and np.linalg.norm(torque[0]) > 1e2  # a non-trivial state
