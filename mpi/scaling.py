@@ -19,8 +19,6 @@ import subprocess
 import sys
 import time
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-
 
 def measure(steps: int, warmup: int, length: float, width: float, repeat: int) -> None:
     from pice.parallel.comm import world

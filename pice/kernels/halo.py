@@ -5,15 +5,15 @@ from numba import njit
 
 from . import JIT
 
-GHOST_DOUBLES = 9  # x, v, w of a ghost, sent every step
+GHOST_DOUBLES = 9  # doubles per ghost record sent every step: x, v, w (3 each)
 
 
 @njit(**JIT)
 def pack_kinematics(x, v, w, idx, out):
-    """out[9k:9k+9] = (x, v, w) of particle idx[k]."""
+    """out[GHOST_DOUBLES k : GHOST_DOUBLES (k + 1)] = (x, v, w) of particle idx[k]."""
     for k in range(len(idx)):
         i = idx[k]
-        o = 9 * k
+        o = GHOST_DOUBLES * k
         for d in range(3):
             out[o + d] = x[i, d]
             out[o + 3 + d] = v[i, d]
@@ -23,10 +23,10 @@ def pack_kinematics(x, v, w, idx, out):
 @njit(**JIT)
 def unpack_kinematics(buf, x, v, w, start):
     """Write consecutive (x, v, w) records of ``buf`` into rows start, start+1, ..."""
-    n = len(buf) // 9
+    n = len(buf) // GHOST_DOUBLES
     for k in range(n):
         i = start + k
-        o = 9 * k
+        o = GHOST_DOUBLES * k
         for d in range(3):
             x[i, d] = buf[o + d]
             v[i, d] = buf[o + 3 + d]

@@ -58,9 +58,6 @@ class SerialComm:
         """Nothing to wait for on one rank."""
         return None
 
-    def abort(self, code: int = 1):
-        raise SystemExit(code)
-
 
 class MPIComm:
     """COMM_WORLD through mpi4py: numpy-buffer collectives for the step, pickled ones for set-up."""
@@ -137,9 +134,6 @@ class MPIComm:
 
     def barrier(self):
         self.comm.Barrier()
-
-    def abort(self, code: int = 1):
-        self.comm.Abort(code)
 
 
 def world():

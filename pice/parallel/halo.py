@@ -33,9 +33,7 @@ class Halo:
         self.ghost_width = ghost_width
         self.skin = skin
         self.send_idx: list[np.ndarray] = [np.zeros(0, np.int64) for _ in range(comm.size)]
-        self.recv_counts = np.zeros(comm.size, np.int64)
         self.x_ref = None
-        self.rebuilds = 0
 
     # -- infrequent: migration and ghost rebuild -----------------------------------------------
     def rebuild(self, p) -> None:
@@ -60,11 +58,9 @@ class Halo:
             ghost_blocks = comm.alltoall([{k: v[idx] for k, v in merged.items()} if len(idx) else None
                                           for idx in targets])
             ghost_blocks = [b for b in ghost_blocks if b is not None]
-            self.recv_counts = np.array([len(b["gid"]) for b in ghost_blocks], np.int64)
             p.replace_rows([merged] + ghost_blocks, nlocal)
         self.resolve(p)
         self.x_ref = p.x[:p.nlocal].copy()
-        self.rebuilds += 1
 
     def _ghost_targets(self, x: np.ndarray) -> list[np.ndarray]:
         """For each rank, the indices of owned particles within ghost_width of its subdomain."""

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..io.errors import OutputError
 from ..io.run_reader import open_run
+from ..kernels.bonds import FAILURE_MODES
 
 FIGSIZE = (10.0, 7.0)  # inches
 DPI = 100
@@ -103,8 +104,8 @@ def broken_bonds(run, out: pathlib.Path):
     t_end = float(t[-1]) if len(t) else 0.0
     if len(ev):
         ev = ev[np.argsort(ev[:, 1], kind="stable")]
-        for label, mask in (("all", np.ones(len(ev), bool)), ("tension + bending", ev[:, 4] == 1),
-                            ("shear + twist", ev[:, 4] == 2)):
+        modes = [(label, ev[:, 4] == mode) for mode, label in FAILURE_MODES.items()]
+        for label, mask in [("all", np.ones(len(ev), bool)), *modes]:
             te = ev[mask, 1]
             if label != "all" and not len(te):
                 continue

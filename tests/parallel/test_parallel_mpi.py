@@ -56,8 +56,7 @@ def test_drifting_sheet_keeps_every_particle_and_bond(comm):
         half_skin = 0.5 * job.parallel.skin  # owned particles may stray this far before a rebuild
         assert np.all((x >= xlo - half_skin) & (x < xhi + half_skin))
         owners_seen.add(int(comm.sum(int(sim.p.nlocal > 0) << comm.rank)))
-    assert sim.domain.halo.rebuilds > 2
-    # the sheet lived on rank 0 only, then on both, then on rank 1 only
+    # the sheet lived on rank 0 only, then on both, then on rank 1 only: its particles migrated
     assert {1, 3, 2} <= owners_seen
 
 
