@@ -59,8 +59,9 @@ def hcp_positions(*, length: float, width: float, d: float, n_layers: int) -> np
 
 
 def rest_elevation(*, mass: float, radius: float, cell_area: float, half_height: float,
-                   rho_w: float, g: float, level: float) -> float:
-    """Centre height [m] at which one element floats in still water (Archimedes, solved to 1e-12 m)."""
+                   rho_w: float, level: float) -> float:
+    """Centre height [m] at which one element floats in still water (Archimedes, solved to 1e-12 m;
+    gravity cancels: the displaced mass equals the element's)."""
     from ..kernels.hydro import submerged
 
     def excess(zc):
@@ -98,7 +99,7 @@ def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
     if job.water is not None and job.gravity > 0:
         if n_layers == 1:
             z0 = rest_elevation(mass=mass, radius=r, cell_area=area_arr[0], half_height=half[0],
-                                rho_w=job.water.density, g=job.gravity, level=job.water.level)
+                                rho_w=job.water.density, level=job.water.level)
             x[:, 2] += z0 - r
         else:
             draft = ice.thickness * ice.density / job.water.density

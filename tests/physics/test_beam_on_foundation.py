@@ -62,7 +62,7 @@ def test_strip_settles_to_semi_infinite_beam():
     # the sheet starts exactly at rest: every centre at the Archimedes height of one element
     r = float(p.radius[0])
     z_rest = rest_elevation(mass=float(p.mass[0]), radius=r, cell_area=0.0, half_height=r,
-                            rho_w=water.density, g=g, level=water.level)
+                            rho_w=water.density, level=water.level)
     x0 = p.x[:n].copy()
     assert np.allclose(x0[:, 2], z_rest, atol=1e-9)
     gid0 = p.gid[:n].copy()
