@@ -25,7 +25,8 @@ from .kernels.bonds import sync_mate_history
 from .kernels.integrate import drift, kick, max_step_displacement
 from .parallel.comm import on_root, world
 from .parallel.domain import Domain, ghost_width
-from .physics.bond import BondTerm, bond_params_from_job
+from .physics.bond import BondTerm
+from .physics.bond_calibration import bond_params_from_job
 from .physics.boundary import SpringBoundaryTerm
 from .physics.contact import IceContactTerm, ice_contact_law
 from .physics.hydro import GravityTerm, WaterTerm, heave_damping, water_from_job

@@ -85,6 +85,8 @@ class BondSpec(Section):
     normal_strength: Optional[quantity("Pa")] = None
     shear_strength: Optional[quantity("Pa")] = None
     friction: Optional[quantity("", gt=None, ge=0.0)] = None
+    shear_strength_law: Literal["mohr_coulomb", "zhu_ji_2022_eq5"] = "mohr_coulomb"  # Eq. 5 as printed: option
+    compressive_strength: Optional[quantity("Pa")] = None  # the bond's compressive cap (none by default)
     damping_ratio: quantity("", gt=None, ge=0.0, le=1.0) = 0.0
     breakable: StrictBool = True
 

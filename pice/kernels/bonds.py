@@ -8,10 +8,20 @@ read (before particles migrate, and before output). A bond to a ghost is evaluat
 its own end, each on its own copy.
 
 law: the bond's parameters by name (physics.bond.BondLaw): springs kn, ks [N/m], kt, kb [N m/rad];
-disk area, inertia, polar [m^2, m^4, m^4] and disk_radius [m]; normal_strength, shear_strength [Pa],
-friction (mu of Eq. 5); dashpots cn, cs [N s/m], ct, cb [N m s/rad].
+the section of the bond: area, inertia, polar [m^2, m^4, m^4] and the fibre distances bend_fiber,
+twist_fiber [m] (a disk: both its radius R); normal_strength, shear_strength, compressive_strength
+[Pa], friction (mu), shear_law; dashpots cn, cs [N s/m], ct, cb [N m s/rad].
 
-Failure modes are the named constants below; ``failure_mode`` is the one place that decides.
+Failure modes are the named constants below; ``failure_mode`` is the one place that decides. The
+stresses on the bond's section (Eqs. 3-4 of Zhu & Ji 2022, tension positive):
+
+    sigma_n = T / A,   sigma_b = |M_b| c_b / I,   tau = |F_s| / A + |M_t| c_t / J
+
+It breaks in tension and bending when sigma_n + sigma_b reaches the normal strength; in compression
+(an optional cap) when sigma_b - sigma_n reaches the compressive strength; in shear and twist when
+tau reaches the shear strength tau_c. With shear_law MOHR_COULOMB (the default), tau_c = sigma_s -
+mu sigma_n: compression raises it, as in Potyondy & Cundall (2004) and Itasca's parallel bond; with
+ZHU_JI_EQ5, tau_c = mu (sigma_n + sigma_b) + sigma_s, Eq. 5 of the paper as printed.
 """
 
 import math
@@ -22,17 +32,30 @@ from . import JIT
 
 INTACT = 0
 TENSION_BENDING = 1  # Eq. 3: tension plus bending reaches the normal strength
-SHEAR_TWIST = 2      # Eqs. 4-5: shear plus twist reaches the Mohr-Coulomb shear strength
-FAILURE_MODES = {TENSION_BENDING: "tension + bending", SHEAR_TWIST: "shear + twist"}
+SHEAR_TWIST = 2      # Eqs. 4-5: shear plus twist reaches the shear strength
+COMPRESSION = 3      # compression plus bending reaches the bond's compressive strength (optional cap)
+FAILURE_MODES = {TENSION_BENDING: "tension + bending", SHEAR_TWIST: "shear + twist",
+                 COMPRESSION: "compression + bending"}
+
+MOHR_COULOMB = 0     # tau_c = sigma_s - mu sigma_n: compression raises the shear strength
+ZHU_JI_EQ5 = 1       # tau_c = mu sigma_max + sigma_s: Eq. 5 of Zhu & Ji (2022) as printed
 
 
 @njit(**JIT, inline="always")
-def failure_mode(sigma, tau, law):
-    """The bond's failure mode from its largest normal stress sigma (tension > 0) and shear stress tau
-    [Pa] (Eqs. 3-5 of Zhu & Ji 2022): TENSION_BENDING, SHEAR_TWIST or INTACT."""
-    if sigma >= law.normal_strength:
+def failure_mode(sigma_n, sigma_b, tau, law):
+    """The bond's failure mode from its normal stress sigma_n = T/A (tension > 0), bending stress
+    sigma_b = |M_b| c_b / I >= 0 and shear stress tau [Pa]: INTACT, TENSION_BENDING, COMPRESSION or
+    SHEAR_TWIST (the module docstring gives the criteria)."""
+    sigma_max = sigma_n + sigma_b
+    if sigma_max >= law.normal_strength:
         return TENSION_BENDING
-    if tau >= law.friction * sigma + law.shear_strength:     # Eq. 5 as printed
+    if sigma_b - sigma_n >= law.compressive_strength:
+        return COMPRESSION
+    if law.shear_law == MOHR_COULOMB:
+        tau_c = law.shear_strength - law.friction * sigma_n
+    else:
+        tau_c = law.friction * sigma_max + law.shear_strength
+    if tau >= tau_c:
         return SHEAR_TWIST
     return INTACT
 
@@ -58,10 +81,10 @@ def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
     """Advance the history H[i, s, :] (8,: shear force (3), twisting moment, bending moment (3), tension,
     canonical orientation) of the bond between a (the lower-gid end) and b by one step; return
     (mode, force on a (3), moment on a (3), moment on b (3)): the failure mode (INTACT,
-    TENSION_BENDING or SHEAR_TWIST; all zeros with a failure) and the loads [N], [N m] (b receives
+    a failure mode; all zeros with a failure) and the loads [N], [N m] (b receives
     the opposite force)."""
     kn, ks, kt, kb = law.kn, law.ks, law.kt, law.kb
-    A, I, J, R = law.area, law.inertia, law.polar, law.disk_radius
+    A, I, J = law.area, law.inertia, law.polar
     dx0 = x[b, 0] - x[a, 0]
     dx1 = x[b, 1] - x[a, 1]
     dx2 = x[b, 2] - x[a, 2]
@@ -95,9 +118,8 @@ def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
     H[i, s, 4], H[i, s, 5], H[i, s, 6], H[i, s, 7] = mb0, mb1, mb2, tension
     fs_mag = math.sqrt(fs0 * fs0 + fs1 * fs1 + fs2 * fs2)
     mb_mag = math.sqrt(mb0 * mb0 + mb1 * mb1 + mb2 * mb2)
-    sigma = tension / A + mb_mag * R / I          # Eq. 3, tension positive [Pa]
-    tau = fs_mag / A + abs(mt) * R / J            # Eq. 4 [Pa]
-    mode = failure_mode(sigma, tau, law)
+    tau = fs_mag / A + abs(mt) * law.twist_fiber / J            # Eq. 4 [Pa]
+    mode = failure_mode(tension / A, mb_mag * law.bend_fiber / I, tau, law)  # Eqs. 3, 5
     if mode != INTACT:
         return (mode, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     cn, cs, ct, cbd = law.cn, law.cs, law.ct, law.cb

@@ -15,7 +15,9 @@ import pytest
 
 from pice.job import parse_job
 from pice.kernels.bonds import bond_forces, sync_mate_history
-from pice.physics.bond import BondLaw, bond_params_from_job, eq6_bond_strength, eq7_bond_friction
+from pice.kernels.bonds import MOHR_COULOMB
+from pice.physics.bond import BondLaw
+from pice.physics.bond_calibration import bond_params_from_job, eq6_bond_strength, eq7_bond_friction
 from pice.state import BOND_HIST, MAX_BONDS
 
 pytestmark = pytest.mark.nojit  # each test runs in a second with NUMBA_DISABLE_JIT=1
@@ -26,7 +28,9 @@ def _kernel_params(*, damping=True):
     A, I, J = math.pi * R**2, math.pi * R**4 / 4, math.pi * R**4 / 2
     kn, ks = 2.0e8, 7.0e7
     d = (3.0e4, 1.1e4, 2.0e3, 1.5e3) if damping else (0.0, 0.0, 0.0, 0.0)
-    return BondLaw(kn, ks, ks / A * J, kn / A * I, A, I, J, R, math.inf, math.inf, 0.3, *d)
+    return BondLaw(kn=kn, ks=ks, kt=ks / A * J, kb=kn / A * I, area=A, inertia=I, polar=J, bend_fiber=R,
+                   twist_fiber=R, normal_strength=math.inf, shear_strength=math.inf, compressive_strength=math.inf,
+                   friction=0.3, shear_law=MOHR_COULOMB, cn=d[0], cs=d[1], ct=d[2], cb=d[3])
 
 
 def _random_state(rng):
@@ -169,11 +173,24 @@ def test_eq7_bond_friction_hand_values():
 
 
 def test_job_strengths_come_from_eqs_6_and_7():
-    """A job with ice.flexural_strength and ice.compressive_strength (and no explicit bond strengths)
-    gets sigma_n = sigma_s = Eq. 6 and mu = Eq. 7 (same hand values as above, 1e-6)."""
-    job = parse_job({"ice": {"length": 3.0, "width": 2.0, "youngs_modulus": 1e9, "flexural_strength": 0.5e6,
-                             "compressive_strength": 2.0e6}})
+    """A job with the paper's springs (bond.normal_stiffness), ice.flexural_strength and
+    ice.compressive_strength (and no explicit bond strengths) gets sigma_n = sigma_s = Eq. 6 and
+    mu = Eq. 7 (same hand values as above, 1e-6)."""
+    job = parse_job({"ice": {"length": 3.0, "width": 2.0, "flexural_strength": 0.5e6, "compressive_strength": 2.0e6},
+                     "bond": {"normal_stiffness": 1.72e7}})
     b = bond_params_from_job(job, n_layers=1, spacing=1.0)
+    assert b.calibration == "springs"
     assert b.normal_strength == pytest.approx(1.657409e6, rel=1e-6)
     assert b.shear_strength == pytest.approx(1.657409e6, rel=1e-6)
+    assert b.friction == pytest.approx(0.42, rel=1e-12)
+
+
+def test_plate_calibrated_strength_is_the_flexural_strength_over_one_minus_nu():
+    """From E (one layer): sigma_n = sigma_f / (1 - nu), the bond stress of a beam bent along a bond
+    at the beam's fibre stress sigma_f (physics/bond_calibration.py); mu still from Eq. 7."""
+    job = parse_job({"ice": {"length": 3.0, "width": 2.0, "youngs_modulus": 1e9, "poissons_ratio": 0.3,
+                             "flexural_strength": 0.5e6, "compressive_strength": 2.0e6}})
+    b = bond_params_from_job(job, n_layers=1, spacing=1.0)
+    assert b.calibration == "plate"
+    assert b.normal_strength == pytest.approx(0.5e6 / 0.7, rel=1e-12)
     assert b.friction == pytest.approx(0.42, rel=1e-12)
