@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import JobError
 from ..kernels.geometry import rotation_matrix
 from ..physics.contact import contact_law
-from .catenary import Segment
+from .catenary import LayoutError, Segment
 from .hull_buoyancy import BRACE_RECORD, submerged
 from .hull_contact import Hull, build_triangle_grid, hull_forces
 from .hulls import box, semi_submersible, semi_submersible_braces
@@ -80,11 +80,11 @@ def refuse_initial_overlap(job, p, hulls: list[Hull], poses: np.ndarray) -> None
     Called on the whole sheet, before it is distributed."""
     for k, h in enumerate(hulls):
         f, t = np.zeros((p.n, 3)), np.zeros((p.n, 3))
-        elastic = h.law._replace(kt=0.0, zeta=0.0, mu=0.0)  # elastic normal force only
+        elastic = h.law._replace(kt=0.0, zeta=0.0, mu=0.0, crushing_pressure=np.inf)  # elastic normal force only
         pose = poses[k].copy()
         pose[7:] = 0.0
-        hull_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, pose,
-                    h.vertices, h.triangles, *h.grid, elastic, np.zeros((p.n, 3)), 0.0, f, t)
+        hull_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, p.cell_area,
+                    p.half_height, pose, h.vertices, h.triangles, *h.grid, elastic, np.zeros((p.n, 4)), 0.0, f, t)
         n_el = int(np.count_nonzero(np.abs(f).sum(axis=1) > 0))
         if n_el:
             raise JobError(f"{job.source}: bodies[{k}] ({h.name}): its hull overlaps {n_el} ice element(s) at "
@@ -100,38 +100,56 @@ def _segments(spec, rho_w: float, g: float) -> list[LineSegment]:
             for s in spec.segments]
 
 
+def _lines(spec, lines, segs, w, seabed_z: float):
+    """The DEM or quasi-static lines of one [[moorings]] entry over the seabed at ``seabed_z`` [m]."""
+    if spec.model == "quasi_static":
+        cat = [Segment(s.length, s.wet_weight, s.ea) for s in segs]
+        return QuasiStaticLines([a for a, _, _ in lines], [f for _, f, _ in lines], [cat] * len(lines),
+                                seabed=True, seabed_z=seabed_z)
+    lines_obj = build_lines(lines, element_length=spec.element_length, water_density=w.density,
+                            water_level=w.level, seabed_z=seabed_z, current=(*w.current, 0.0),
+                            bond_damping=spec.bond_damping, seabed_stiffness=spec.seabed_stiffness,
+                            seabed_friction=spec.seabed_friction)
+    if spec.relax:
+        lines_obj.relax(tol=1.0)
+    return lines_obj
+
+
 def _mooring_group(job, k: int, poses: np.ndarray) -> MooringGroup:
     """The lines of moorings[k], anchored by the layout solve, attached to their body at its pose
     (poses: (n_bodies, 13) as initial_poses gives them)."""
     spec, w = job.moorings[k], job.water
     ib = [b.name for b in job.bodies].index(spec.body)
     segs = _segments(spec, w.density, job.gravity)
+    where = f"{job.source}: moorings[{k}]"
+    seabed_z = w.level - w.depth
     try:
         lines, state, dist = spread_mooring(fairleads_body=np.asarray(spec.fairleads, float),
                                             bundle_headings_deg=spec.headings, spread_deg=spec.spread,
                                             lines_per_bundle=spec.lines_per_fairlead,
                                             fairlead_to_anchor_height=spec.anchor_depth,
-                                            pretension=spec.pretension, segments=segs, rho_w=w.density)
-    except ValueError as exc:
-        raise JobError(f"{job.source}: moorings[{k}].pretension = {spec.pretension:g}: {exc}; raise the "
-                       "pretension or move the anchors (anchor_depth)") from None
-    log.info("moorings[%d] (%s): %d lines, anchors %.1f m out horizontally; at the %.4g N pretension the line "
-             "%s (horizontal tension %.4g N, anchor uplift %.4g N, grounded %.1f m)", k, spec.model, len(lines),
-             dist, spec.pretension, "touches the seabed" if state.touches_seabed else "hangs free of the seabed",
+                                            pretension=spec.pretension, segments=segs, rho_w=w.density,
+                                            seabed_z=seabed_z)
+    except LayoutError as exc:
+        fix = (f"raise the pretension to at least {exc.limit:.4g} N or move the anchors (anchor_depth)"
+               if exc.limit is not None else "lower the pretension or check the segments (ea, wet_weight, length)")
+        raise JobError(f"{where}.pretension = {spec.pretension:g}: {exc}; {fix}") from None
+    except ValueError as exc:  # the catenary solve failed inside the layout solve
+        raise JobError(f"{where}.pretension = {spec.pretension:g}: the layout solve failed ({exc}); check the "
+                       "segments (ea, wet_weight, length), anchor_depth and the pretension") from None
+    above = min(a[2] for a, _, _ in lines) - seabed_z
+    log.info("moorings[%d] (%s): %d lines, anchors %.1f m out horizontally and %.1f m above the seabed; at the "
+             "%.4g N pretension the line %s (horizontal tension %.4g N, vertical pull on the anchor %.4g N, "
+             "grounded %.1f m)", k, spec.model, len(lines), dist, above, spec.pretension,
+             "touches the seabed" if state.touches_seabed else "hangs free of the seabed",
              state.horizontal_tension, state.anchor_vertical, state.grounded_length)
     x, R = poses[ib, :3], rotation_matrix(poses[ib, 3:7])
     atts = [Attachment(j, ib, R.T @ (fl - x)) for j, (_, fl, _) in enumerate(lines)]
-    if spec.model == "quasi_static":
-        cat = [Segment(s.length, s.wet_weight, s.ea) for s in segs]
-        lines_obj = QuasiStaticLines([a for a, _, _ in lines], [f for _, f, _ in lines], [cat] * len(lines),
-                                     seabed=True)
-    else:
-        lines_obj = build_lines(lines, element_length=spec.element_length, water_density=w.density,
-                                water_level=w.level, seabed_z=w.level - w.depth, current=(*w.current, 0.0),
-                                bond_damping=spec.bond_damping, seabed_stiffness=spec.seabed_stiffness,
-                                seabed_friction=spec.seabed_friction)
-        if spec.relax:
-            lines_obj.relax(tol=1.0)
+    try:
+        lines_obj = _lines(spec, lines, segs, w, seabed_z)
+    except ValueError as exc:  # the starting shape's catenary solve
+        raise JobError(f"{where}: the starting shape of its lines: {exc}; check the segments (ea, wet_weight, "
+                       "length), anchor_depth and the pretension") from None
     return MooringGroup(lines_obj, atts)
 
 

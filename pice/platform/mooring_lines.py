@@ -175,8 +175,9 @@ def build_lines(lines, *, element_length: float, water_density: float, water_lev
     """Nodes for each line given as (anchor (3,), fairlead (3,), [LineSegment, ...] anchor first).
 
     Nodes start on the quasi-static catenary through anchor and fairlead (with seabed contact when
-    ``seabed_z`` is given). seabed_stiffness [N/m per m of line], seabed_damping (ratio),
-    seabed_friction (Coulomb), element_length the longest element [m].
+    ``seabed_z`` [m] is given: the seabed's height, which an anchor may lie above).
+    seabed_stiffness [N/m per m of line], seabed_damping (ratio), seabed_friction (Coulomb),
+    element_length the longest element [m].
     """
     xs, masses, prevs, segs, kinds, props = [], [], [], [], [], []
     anchors, fairleads = [], []
@@ -186,8 +187,8 @@ def build_lines(lines, *, element_length: float, water_density: float, water_lev
         hdist = float(np.linalg.norm(horiz))
         e_h = horiz / hdist if hdist > 0 else np.array([1.0, 0.0])
         static = solve_line([Segment(s.length, s.wet_weight, s.ea) for s in segments],
-                            horizontal=hdist, vertical=float(fairlead[2] - anchor[2]),
-                            seabed=seabed_z is not None)
+                            horizontal=hdist, vertical=float(fairlead[2] - anchor[2]), seabed=seabed_z is not None,
+                            anchor_height=max(float(anchor[2]) - seabed_z, 0.0) if seabed_z is not None else 0.0)
         prof = profile([Segment(s.length, s.wet_weight, s.ea) for s in segments], static, 2000)
         base = len(xs)
         s_nodes = [0.0]

@@ -19,11 +19,17 @@ from .catenary import Segment, profile, solve_line, strain_energy
 class QuasiStaticLines:
     """Lines from fixed anchors to moving fairleads, each a multi-segment elastic catenary."""
 
-    def __init__(self, anchors, fairleads_x, segments: list[list[Segment]], *, seabed: bool, tol: float = 1.0e-3):
+    def __init__(self, anchors, fairleads_x, segments: list[list[Segment]], *, seabed: bool,
+                 seabed_z: float | None = None, tol: float = 1.0e-3):
+        """anchors, fairleads_x: (n_lines, 3) [m]; seabed=False: no seabed; seabed_z: its height [m]
+        (None: at each anchor); tol: fairlead motion [m] below which a line keeps its last solve."""
         self.anchors_x = np.asarray(anchors, float).reshape(-1, 3)
         self.fairlead_x = np.asarray(fairleads_x, float).reshape(-1, 3).copy()
         self.segments = segments
         self.seabed = seabed
+        # the anchors' heights above the seabed [m]
+        self.anchor_height = (np.zeros(len(self.anchors_x)) if seabed_z is None else
+                              np.maximum(self.anchors_x[:, 2] - seabed_z, 0.0))
         self.tol = tol
         n = len(self.anchors_x)
         self.fairleads = np.arange(n)        # "node" of each line's fairlead: the line index
@@ -41,7 +47,8 @@ class QuasiStaticLines:
             d = self.fairlead_x[k] - self.anchors_x[k]
             h = math.hypot(d[0], d[1])
             e = d[:2] / h if h > 0 else np.array([1.0, 0.0])
-            st = solve_line(self.segments[k], horizontal=h, vertical=float(d[2]), seabed=self.seabed)
+            st = solve_line(self.segments[k], horizontal=h, vertical=float(d[2]), seabed=self.seabed,
+                            anchor_height=float(self.anchor_height[k]))
             H = st.horizontal_tension
             self.pull[k] = [-H * e[0], -H * e[1], -st.fairlead_vertical]
             self.anchor_pull[k] = [H * e[0], H * e[1], st.anchor_vertical]
