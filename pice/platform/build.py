@@ -76,8 +76,13 @@ def initial_poses(job) -> np.ndarray:
 
 
 def refuse_initial_overlap(job, p, hulls: list[Hull], poses: np.ndarray) -> None:
-    """A hull that cuts into the ice at t = 0 would fire elements off: refuse it with the fix.
-    Called on the whole sheet, before it is distributed."""
+    """A hull that cuts into the ice at t = 0 would fire elements off, and one that holds ice inside
+    it would never touch that ice: refuse either with the fix; likewise two hulls that overlap (there
+    is no contact between bodies). Called on the whole sheet, before it is distributed."""
+    from .hulls import inside
+
+    fix = "move the body (bodies.position) or the sheet (ice.origin) so that they start apart"
+    space = []  # points of each hull in the space frame at t = 0
     for k, h in enumerate(hulls):
         f, t = np.zeros((p.n, 3)), np.zeros((p.n, 3))
         elastic = h.law._replace(kt=0.0, zeta=0.0, mu=0.0, crushing_pressure=np.inf)  # elastic normal force only
@@ -85,11 +90,34 @@ def refuse_initial_overlap(job, p, hulls: list[Hull], poses: np.ndarray) -> None
         pose[7:] = 0.0
         hull_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, p.cell_area,
                     p.half_height, pose, h.vertices, h.triangles, *h.grid, elastic, np.zeros((p.n, 4)), 0.0, f, t)
-        n_el = int(np.count_nonzero(np.abs(f).sum(axis=1) > 0))
-        if n_el:
-            raise JobError(f"{job.source}: bodies[{k}] ({h.name}): its hull overlaps {n_el} ice element(s) at "
-                           "t = 0; move the body (bodies.position) or the sheet (ice.origin) so that they start "
-                           "apart")
+        touching = np.abs(f).sum(axis=1) > 0
+        R = rotation_matrix(pose[3:7])
+        held = inside((p.x[:p.nlocal] - pose[:3]) @ R, h.vertices, h.triangles)  # centres in the body frame
+        n_in, n_touch = int(np.count_nonzero(held)), int(np.count_nonzero(touching & ~held))
+        if n_in:
+            more = f" and overlaps {n_touch} more" if n_touch else ""
+            raise JobError(f"{job.source}: bodies[{k}] ({h.name}): its hull contains {n_in} ice element(s) at t = 0 "
+                           f"(their centres lie inside it){more}; {fix}")
+        if n_touch:
+            raise JobError(f"{job.source}: bodies[{k}] ({h.name}): its hull overlaps {n_touch} ice element(s) at "
+                           f"t = 0; {fix}")
+        # its vertices and face centres, pulled 1e-6 of its size towards its middle (so that hulls
+        # sharing a face do not count), in the space frame
+        pts = np.vstack([h.vertices, h.vertices[h.triangles].mean(axis=1)])
+        middle = h.vertices.mean(axis=0)
+        pts = pts + 1e-6 * (middle - pts)
+        space.append(pts @ R.T + pose[:3])
+    for k, h in enumerate(hulls):
+        for j in range(k):
+            R, other = rotation_matrix(poses[j, 3:7]), hulls[j]
+            n_in = int(np.count_nonzero(inside((space[k] - poses[j, :3]) @ R, other.vertices, other.triangles)))
+            R = rotation_matrix(poses[k, 3:7])
+            n_in += int(np.count_nonzero(inside((space[j] - poses[k, :3]) @ R, h.vertices, h.triangles)))
+            if n_in:
+                raise JobError(f"{job.source}: bodies[{k}] ({h.name}): its hull overlaps that of bodies[{j}] "
+                               f"({other.name}) at t = 0 ({n_in} vertices and face centres of one inside the "
+                               "other; bodies do not touch each other in this model); move one of them "
+                               "(bodies.position)")
 
 
 # -- mooring lines (rank 0) --------------------------------------------------------------------

@@ -113,3 +113,24 @@ def test_energies_of_a_spinning_body_and_a_stretched_line_element():
     qs_strain = strain_energy(catenary, solve_line(catenary, horizontal=500.0, vertical=200.0))
     assert qs_strain > 0.0
     assert e["mooring_elastic_energy"] == pytest.approx(125.0 + qs_strain, rel=1e-12)
+
+
+def test_points_inside_a_hull():
+    """hulls.inside (issue 13, case 2: the overlap check tests inside the hull too): the generalised
+    winding number against the box's own bounds for 2,000 random points, whichever way the
+    triangles face; the semi-submersible's ring pontoon holds points in its pontoons and columns but
+    not in the open water between the columns or in its moonpool."""
+    from pice.platform.hulls import inside
+
+    rng = np.random.default_rng(13)
+    v, t = box(10.0, 8.0, 4.0, centre=(1.0, -2.0, 0.5))
+    pts = rng.uniform([-6.0, -8.0, -3.0], [8.0, 4.0, 4.0], size=(2000, 3))
+    truth = np.all(np.abs(pts - [1.0, -2.0, 0.5]) < [5.0, 4.0, 2.0], axis=1)
+    near = np.any(np.abs(np.abs(pts - [1.0, -2.0, 0.5]) - [5.0, 4.0, 2.0]) < 1e-9, axis=1)
+    assert truth.sum() > 200 and not near.any()
+    assert np.array_equal(inside(pts, v, t), truth)
+    assert np.array_equal(inside(pts, v, t[:, ::-1]), truth)  # inside-out triangles: the same answer
+    v, t = semi_submersible()
+    z_pontoon, z_column = -8.9 + 4.0, 0.0
+    assert inside([[0.0, 64.6 / 2 - 7.0, z_pontoon], [-(86.2 - 16.68) / 2, -(64.6 - 16.68) / 2, z_column]], v, t).all()
+    assert not inside([[0.0, 0.0, z_pontoon], [0.0, 0.0, z_column], [0.0, 64.6 / 2 - 7.0, z_column]], v, t).any()
