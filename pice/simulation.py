@@ -120,7 +120,8 @@ class Simulation:
         """The force terms the job declares, in the order the step applies them."""
         job, p = self.job, self.p
         self.bond_term = BondTerm(self.bond.kernel_law(mass=float(p.mass.min()), inertia=float(p.inertia.min())))
-        terms = [self.bond_term, IceContactTerm(self.contact_law, cell_size=2.0 * float(p.radius.max()) * 1.0001)]
+        self.ice_contact_term = IceContactTerm(self.contact_law, cell_size=2.0 * float(p.radius.max()) * 1.0001)
+        terms = [self.bond_term, self.ice_contact_term]
         if self.walls is not None:
             terms.append(self.walls)
         water = water_from_job(job)

@@ -61,9 +61,9 @@ class Particles:
     fix_velocity: np.ndarray = field(default=None)  # (n,3) prescribed velocity [m/s]
     contact_gid: np.ndarray = field(default=None)   # (n,MAX_CONTACTS) int64
     contact_stamp: np.ndarray = field(default=None)  # (n,MAX_CONTACTS) int64, step last touched
-    contact_hist: np.ndarray = field(default=None)  # (n,MAX_CONTACTS,3) tangential force [N]
-    wall_hist: np.ndarray = field(default=None)     # (n,n_walls,3) tangential force [N]
-    hull_hist: np.ndarray = field(default=None)     # (n,n_bodies,3) tangential force on each hull [N]
+    contact_hist: np.ndarray = field(default=None)  # (n,MAX_CONTACTS,4) tangential force [N], plastic penetration [m]
+    wall_hist: np.ndarray = field(default=None)     # (n,n_walls,4) the same for each wall
+    hull_hist: np.ndarray = field(default=None)     # (n,n_bodies,4) the same for each hull
     heave_damping: np.ndarray = field(default=None)  # (n,) linear heave damping [N s/m]
     anchor: np.ndarray = field(default=None)         # (n,3) spring-boundary anchor at t = 0 [m]
     anchor_k: np.ndarray = field(default=None)       # (n,) spring-boundary stiffness [N/m] (0: free)
@@ -85,9 +85,9 @@ class Particles:
             self.fix_velocity = np.zeros((n, 3))
         self.contact_gid = np.full((n, MAX_CONTACTS), -1, dtype=np.int64)
         self.contact_stamp = np.full((n, MAX_CONTACTS), -10, dtype=np.int64)
-        self.contact_hist = np.zeros((n, MAX_CONTACTS, 3))
-        self.wall_hist = np.zeros((n, max(n_walls, 1), 3))
-        self.hull_hist = np.zeros((n, max(n_bodies, 1), 3))
+        self.contact_hist = np.zeros((n, MAX_CONTACTS, 4))
+        self.wall_hist = np.zeros((n, max(n_walls, 1), 4))
+        self.hull_hist = np.zeros((n, max(n_bodies, 1), 4))
         if self.heave_damping is None:
             self.heave_damping = np.zeros(n)
         self.anchor = self.x.copy()

@@ -34,7 +34,8 @@ from ..parallel.comm import on_root
 from ..state import PER_PARTICLE
 
 FORMAT = "pice checkpoint"
-FORMAT_VERSION = 2  # 2: hull contact history and /platform (1 reads as 'no bodies')
+FORMAT_VERSION = 3  # 2: hull contact history and /platform (1 reads as 'no bodies');
+#                    3: contact histories carry the plastic penetration (2 reads with none)
 COUNTERS = ("broken", "contacts", "contact_energy", "wall_energy")
 EVENT_FIELDS = ("step", "time", "gid_a", "gid_b", "mode", "rank")
 
@@ -176,7 +177,10 @@ OPTIONAL = ("hull_hist", "anchor", "anchor_k")  # absent from format 1 (no bodie
 def _particles(g: h5py.Group) -> dict:
     out = {n: g[n][()] for n in PER_PARTICLE if n in g}
     n = len(out["gid"])
-    out.setdefault("hull_hist", np.zeros((n, 1, 3)))
+    out.setdefault("hull_hist", np.zeros((n, 1, 4)))
+    for name in ("contact_hist", "wall_hist", "hull_hist"):  # format <= 2: no plastic penetration yet
+        if out[name].shape[-1] == 3:
+            out[name] = np.concatenate([out[name], np.zeros(out[name].shape[:-1] + (1,))], axis=-1)
     out.setdefault("anchor", out["x"].copy())
     out.setdefault("anchor_k", np.zeros(n))
     return out

@@ -111,6 +111,7 @@ class WallSpec(Section):
     file: Optional[str] = None
     friction: quantity("", gt=None, ge=0.0) = 0.1
     normal_stiffness: Optional[quantity("N/m")] = None
+    crushing_width: Optional[quantity("m")] = None  # the structure's width w for ISO 19906 crushing
 
     @model_validator(mode="after")
     def _geometry(self):
@@ -166,6 +167,21 @@ class FixSpec(Section):
     region: Region
 
 
+class CrushingSpec(Section):
+    """[crushing]: elastic-perfectly-plastic contacts (seeds 003 and 004): the normal force is capped at
+    a crushing pressure times the contact area, and the ice yields beyond it. Absent: elastic contacts.
+
+    ``structure``: the pressure of ice crushing on walls and hulls: "iso19906" (the global pressure
+    p_G = C_R (h/h1)^n (w/h)^m of ISO 19906 A.8.2.4.3 for each structure's width w: walls[].crushing_width)
+    or a constant [Pa]. ``ice``: the pressure of ice crushing on ice [Pa]; default ice.compressive_strength.
+    docs/crushing.md gives the defaults and why.
+    """
+
+    structure: Union[Literal["iso19906"], quantity("Pa")] = "iso19906"
+    iso_cr: quantity("Pa") = 1.5e6
+    ice: Optional[quantity("Pa")] = None
+
+
 class ParallelSpec(Section):
     """[parallel]: decomposition and load balance (ignored on one rank)."""
 
@@ -189,6 +205,7 @@ class Job(Section):
     fixes: tuple[FixSpec, ...] = ()
     bodies: tuple[BodySpec, ...] = ()
     moorings: tuple[MooringSpec, ...] = ()
+    crushing: Optional[CrushingSpec] = None
     parallel: ParallelSpec = ParallelSpec()
     source: str = Field(default="", exclude=True)  # the job file's path, as error lines name it
     text: str = Field(default="", exclude=True)    # the job file's text, as the run file keeps it
@@ -244,6 +261,16 @@ class Job(Section):
                 f"must be < water.density = {self.water.density} kg/m^3, else the ice sinks")
         if run.dt != "auto" and run.dt >= run.duration:
             bad(("run", "dt"), run.dt, f"must be < run.duration = {run.duration} s")
+        if self.crushing is not None:
+            if self.crushing.structure == "iso19906":
+                for k, wall in enumerate(self.walls):
+                    if wall.crushing_width is None:
+                        bad(("walls", k, "crushing_width"), None,
+                            "missing: crushing.structure = \"iso19906\" needs each wall's width w [m] for the "
+                            "pressure-area relation (or give crushing.structure a pressure [Pa])")
+            if self.crushing.ice is None and ice.compressive_strength is None:
+                bad(("crushing", "ice"), None, "missing: the ice-ice crushing pressure [Pa]; give crushing.ice "
+                    "or ice.compressive_strength")
         check_platform(self, bad)
         if problems:
             raise Located.group(problems)

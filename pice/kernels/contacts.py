@@ -11,7 +11,7 @@ import numpy as np
 from numba import njit
 
 from . import JIT
-from .contact_law import contact_energy, normal_force, tangential_force
+from .contact_law import contact_energy, contact_height, crushing_cap, plastic_normal_force, tangential_force
 
 
 @njit(**JIT)
@@ -100,14 +100,17 @@ def _bonded(bond_j, i, j):
 
 
 @njit(**JIT)
-def contact_forces(nlocal, ntotal, gid, x, v, w, radius, mass, bond_j, cgid, stamp, chist, law,
-                   dt, step, cell_size, force, torque):
-    """Add contact forces between unbonded overlapping spheres. Returns (contacts, elastic energy [J]).
+def contact_forces(nlocal, ntotal, gid, x, v, w, radius, mass, cell_area, half_height, bond_j, cgid, stamp,
+                   chist, law, dt, step, cell_size, force, torque):
+    """Add contact forces between unbonded overlapping spheres.
 
-    law: the contact law's parameters (physics.contact.ContactLaw: kn, kt, zeta, mu).
+    law: the contact law's parameters (physics.contact.ContactLaw: kn, kt, zeta, mu, crushing_pressure).
+    chist: (n, slots, 4) per contact: tangential force on the lower-gid end [N] and plastic penetration [m].
+    Returns (contacts, elastic energy [J], contacts in plastic flow (crushing)).
     """
     origin, dims, start, order, size = build_cell_list(x, ntotal, cell_size)
     ncontacts = 0
+    ncrushing = 0
     energy = 0.0
     n = np.empty(3)
     for i in range(nlocal):
@@ -147,15 +150,18 @@ def contact_forces(nlocal, ntotal, gid, x, v, w, radius, mass, bond_j, cgid, sta
                         a = i if i_is_a else j
                         b = j if i_is_a else i
                         ncontacts += 1
-                        energy += _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, gid, cgid, stamp,
-                                        chist, law, dt, step, n, force, torque)
-    return ncontacts, energy
+                        e, yielding = _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, cell_area,
+                                            half_height, gid, cgid, stamp, chist, law, dt, step, n, force, torque)
+                        energy += e
+                        ncrushing += yielding
+    return ncontacts, energy, ncrushing
 
 
 @njit(**JIT)
-def _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, gid, cgid, stamp, chist, law, dt, step, n,
-          force, torque):
-    """The contact law (contact_law.py) on the pair (a, b) = (lower gid, higher gid), seen from a."""
+def _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, cell_area, half_height, gid, cgid, stamp, chist,
+          law, dt, step, n, force, torque):
+    """The contact law (contact_law.py) on the pair (a, b) = (lower gid, higher gid), seen from a.
+    Returns (elastic energy [J] counted on this rank, 1 if the contact is in plastic flow else 0)."""
     d0 = x[b, 0] - x[a, 0]
     d1 = x[b, 1] - x[a, 1]
     d2 = x[b, 2] - x[a, 2]
@@ -171,25 +177,31 @@ def _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, gid, cgid, stamp, 
     vr1 = (v[b, 1] - cb * (w[b, 2] * n[0] - w[b, 0] * n[2])) - (v[a, 1] + ca * (w[a, 2] * n[0] - w[a, 0] * n[2]))
     vr2 = (v[b, 2] - cb * (w[b, 0] * n[1] - w[b, 1] * n[0])) - (v[a, 2] + ca * (w[a, 0] * n[1] - w[a, 1] * n[0]))
     vn = vr0 * n[0] + vr1 * n[1] + vr2 * n[2]
-    fn = normal_force(law.kn, law.zeta, mass[a] * mass[b] / (mass[a] + mass[b]), delta, vn)
-    # tangential history from i's slot (the force on a)
+    # tangential history and plastic penetration from i's slot
     si, found = _find_slot(cgid, stamp, i, gid[j], step)
     h0 = chist[i, si, 0] if found else 0.0
     h1 = chist[i, si, 1] if found else 0.0
     h2 = chist[i, si, 2] if found else 0.0
+    dp0 = chist[i, si, 3] if found else 0.0
+    # the overlap's half chord in plan (lens of two circles) and the lower contact face [m]
+    xa = 0.5 * (L * L + radius[a] * radius[a] - radius[b] * radius[b]) / L
+    height = min(contact_height(radius[a], cell_area[a], half_height[a]),
+                 contact_height(radius[b], cell_area[b], half_height[b]))
+    cap = crushing_cap(law.crushing_pressure, radius[a] * radius[a] - xa * xa, height)
+    fn, dp = plastic_normal_force(law.kn, law.zeta, mass[a] * mass[b] / (mass[a] + mass[b]), delta, dp0, vn, cap)
     # in the law's terms, a is the element: normal -n (from b to a), velocity -vr (a relative to b)
     f0, f1, f2, ftm = tangential_force(h0, h1, h2, -n[0], -n[1], -n[2], -vr0, -vr1, -vr2, vn, law.kt, dt,
                                        law.mu * fn)
     if si >= 0:
         cgid[i, si] = gid[j]
         stamp[i, si] = step
-        chist[i, si, 0], chist[i, si, 1], chist[i, si, 2] = f0, f1, f2
+        chist[i, si, 0], chist[i, si, 1], chist[i, si, 2], chist[i, si, 3] = f0, f1, f2, dp
     if j_owned:
         sj, _ = _find_slot(cgid, stamp, j, gid[i], step)
         if sj >= 0:
             cgid[j, sj] = gid[i]
             stamp[j, sj] = step
-            chist[j, sj, 0], chist[j, sj, 1], chist[j, sj, 2] = f0, f1, f2
+            chist[j, sj, 0], chist[j, sj, 1], chist[j, sj, 2], chist[j, sj, 3] = f0, f1, f2, dp
     # force on a: repulsion along -n plus the tangential spring
     fa0 = -fn * n[0] + f0
     fa1 = -fn * n[1] + f1
@@ -224,4 +236,5 @@ def _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, gid, cgid, stamp, 
             torque[j, 0] += ma0
             torque[j, 1] += ma1
             torque[j, 2] += ma2
-    return contact_energy(law.kn, law.kt, delta, ftm) if (i_is_a or j_owned) else 0.0
+    mine = i_is_a or j_owned
+    return (contact_energy(law.kn, law.kt, delta - dp, ftm) if mine else 0.0), (1 if (mine and dp > dp0) else 0)

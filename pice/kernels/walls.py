@@ -13,7 +13,7 @@ import numpy as np
 from numba import njit
 
 from . import JIT
-from .contact_law import contact_energy, normal_force, tangential_force
+from .contact_law import contact_energy, contact_height, crushing_cap, plastic_normal_force, tangential_force
 from .geometry import closest_point_on_triangle
 
 PLANE = 0     # an infinite plane: geometry = (point, unit normal, -)
@@ -21,19 +21,22 @@ TRIANGLE = 1  # geometry = (v0, v1, v2)
 
 
 @njit(**JIT)
-def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt, force, torque, wall_force,
-                wall_moment):
+def wall_forces(nlocal, x, v, w, radius, mass, cell_area, half_height, kinds, geometry, params, hist, dt, force,
+                torque, wall_force, wall_moment):
     """Add wall contact forces to owned particles; accumulate the reaction on each wall [N] and its
     moment about the origin [N m] (the reaction acts at the sphere's contact point).
 
-    hist: (n, n_walls, 3) tangential force history per particle and wall, reset when contact ends.
-    Returns the elastic energy stored in wall contacts [J].
+    hist: (n, n_walls, 4) per particle and wall: tangential force [N] and plastic penetration [m]
+    (crushing), reset when the contact ends. The contact area for crushing is the chord of the
+    sphere's section by the wall, 2 sqrt(2 r delta - delta^2) (2 r once delta >= r), times the
+    element's contact height. Returns (elastic energy in wall contacts [J], contacts in plastic flow).
     """
     nw = kinds.shape[0]
     p = np.empty(3)
     q = np.empty(3)
     n = np.empty(3)
     energy = 0.0
+    ncrushing = 0
     for i in range(nlocal):
         for k in range(3):
             p[k] = x[i, k]
@@ -57,6 +60,8 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
             delta = r - dist
             law = params[wi]  # a record: fields by name (law["kn"] works with and without JIT)
             kn, kt, zeta, mu = law["kn"], law["kt"], law["zeta"], law["mu"]
+            cap = crushing_cap(law["crushing_pressure"], 2.0 * r * delta - delta * delta if delta < r else r * r,
+                               contact_height(r, cell_area[i], half_height[i]))
             # velocity of the sphere's contact point (the wall is at rest)
             c0 = -r * n[0]
             c1 = -r * n[1]
@@ -65,8 +70,10 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
             vc1 = v[i, 1] + w[i, 2] * c0 - w[i, 0] * c2
             vc2 = v[i, 2] + w[i, 0] * c1 - w[i, 1] * c0
             vn = vc0 * n[0] + vc1 * n[1] + vc2 * n[2]
-            fn = normal_force(kn, zeta, mass[i], delta, vn)
             ft = hist[i, wi]
+            dp0 = ft[3]
+            fn, ft[3] = plastic_normal_force(kn, zeta, mass[i], delta, dp0, vn, cap)
+            ncrushing += 1 if ft[3] > dp0 else 0
             ft[0], ft[1], ft[2], ftm = tangential_force(ft[0], ft[1], ft[2], n[0], n[1], n[2], vc0, vc1, vc2, vn,
                                                         kt, dt, mu * fn)
             f0 = fn * n[0] + ft[0]
@@ -85,5 +92,5 @@ def wall_forces(nlocal, x, v, w, radius, mass, kinds, geometry, params, hist, dt
             wall_moment[wi, 0] -= q1 * f2 - q2 * f1
             wall_moment[wi, 1] -= q2 * f0 - q0 * f2
             wall_moment[wi, 2] -= q0 * f1 - q1 * f0
-            energy += contact_energy(kn, kt, delta, ftm)
-    return energy
+            energy += contact_energy(kn, kt, delta - ft[3], ftm)
+    return energy, ncrushing

@@ -12,11 +12,14 @@ from collections import namedtuple
 import numpy as np
 
 from ..kernels.contacts import contact_forces
+from .iso19906 import crushing_pressure
 
-ContactLaw = namedtuple("ContactLaw", ["kn", "kt", "zeta", "mu"])
-ContactLaw.__doc__ = """Linear spring-dashpot with Coulomb friction: kn, kt [N/m], damping ratio zeta, friction mu."""
+ContactLaw = namedtuple("ContactLaw", ["kn", "kt", "zeta", "mu", "crushing_pressure"], defaults=[math.inf])
+ContactLaw.__doc__ = """Linear spring-dashpot with Coulomb friction: kn, kt [N/m], damping ratio zeta, friction mu,
+and the crushing pressure p_c [Pa] capping the normal force at p_c A_c (inf: elastic, no crushing)."""
 
-CONTACT_LAW_RECORD = np.dtype([("kn", np.float64), ("kt", np.float64), ("zeta", np.float64), ("mu", np.float64)])
+CONTACT_LAW_RECORD = np.dtype([("kn", np.float64), ("kt", np.float64), ("zeta", np.float64), ("mu", np.float64),
+                               ("crushing_pressure", np.float64)])
 
 
 def damping_ratio_from_restitution(e: float) -> float:
@@ -27,18 +30,35 @@ def damping_ratio_from_restitution(e: float) -> float:
     return -le / math.sqrt(math.pi ** 2 + le * le)
 
 
-def contact_law(job, *, kn: float, friction: float) -> ContactLaw:
-    """The job's contact law ([contact]: stiffness ratio, restitution) with normal stiffness kn [N/m]."""
+def contact_law(job, *, kn: float, friction: float, crushing_pressure: float = math.inf) -> ContactLaw:
+    """The job's contact law ([contact]: stiffness ratio, restitution) with normal stiffness kn [N/m],
+    and the crushing pressure [Pa] (inf: none)."""
     c = job.contact
     return ContactLaw(kn=float(kn), kt=float(c.stiffness_ratio * kn),
-                      zeta=float(damping_ratio_from_restitution(c.restitution)), mu=float(friction))
+                      zeta=float(damping_ratio_from_restitution(c.restitution)), mu=float(friction),
+                      crushing_pressure=float(crushing_pressure))
 
 
 def ice_contact_law(job, *, bond_kn: float) -> ContactLaw:
-    """The law of ice-ice contact; k_n defaults to the bond's normal spring [N/m]."""
-    c = job.contact
+    """The law of ice-ice contact; k_n defaults to the bond's normal spring [N/m]; with [crushing] the
+    ice-ice crushing pressure is crushing.ice, else ice.compressive_strength."""
+    c, crushing = job.contact, job.crushing
+    pressure = math.inf
+    if crushing is not None:
+        pressure = crushing.ice if crushing.ice is not None else job.ice.compressive_strength
     return contact_law(job, kn=c.normal_stiffness if c.normal_stiffness is not None else bond_kn,
-                       friction=c.friction)
+                       friction=c.friction, crushing_pressure=pressure)
+
+
+def structure_crushing_pressure(job, *, width: float | None) -> float:
+    """The crushing pressure [Pa] of the ice on a wall or hull of ``width`` [m] (inf without [crushing]):
+    crushing.structure as given, or ISO 19906's p_G for the ice thickness and that width."""
+    crushing = job.crushing
+    if crushing is None:
+        return math.inf
+    if crushing.structure != "iso19906":
+        return float(crushing.structure)
+    return crushing_pressure(thickness=job.ice.thickness, width=width, cr=crushing.iso_cr)
 
 
 def law_records(laws) -> np.ndarray:
@@ -51,7 +71,10 @@ def law_records(laws) -> np.ndarray:
 
 class IceContactTerm:
     """Contact between unbonded ice elements (kernels/contacts.py): sets ``c.contacts`` (the pairs in
-    contact on this rank) and ``c.contact_energy`` [J]."""
+    contact on this rank) and ``c.contact_energy`` [J]; ``crushing`` counts the contacts in plastic
+    flow (crushing) in the last step."""
+
+    crushing = 0
 
     name = "ice contacts"
 
@@ -59,6 +82,6 @@ class IceContactTerm:
         self.law, self.cell_size = law, cell_size
 
     def add_forces(self, p, c, dt):
-        c.contacts, c.contact_energy = contact_forces(
-            p.nlocal, p.n, p.gid, p.x, p.v, p.w, p.radius, p.mass, p.bond_j, p.contact_gid, p.contact_stamp,
-            p.contact_hist, self.law, dt, c.step, self.cell_size, p.force, p.torque)
+        c.contacts, c.contact_energy, self.crushing = contact_forces(
+            p.nlocal, p.n, p.gid, p.x, p.v, p.w, p.radius, p.mass, p.cell_area, p.half_height, p.bond_j,
+            p.contact_gid, p.contact_stamp, p.contact_hist, self.law, dt, c.step, self.cell_size, p.force, p.torque)

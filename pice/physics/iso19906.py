@@ -33,6 +33,12 @@ def crushing_load(*, thickness: float, diameter: float, cr: float = 1.5e6, h1: f
     return cr * thickness * diameter * (thickness / h1) ** n * (diameter / thickness) ** m
 
 
+def crushing_pressure(*, thickness: float, width: float, cr: float = 1.5e6, h1: float = 1.0,
+                      m: float = -0.16) -> float:
+    """The global crushing pressure p_G = C_R (h/h1)^n (w/h)^m [Pa] of Eq. 15 (ISO 19906 A.8.2.4.3)."""
+    return crushing_load(thickness=thickness, diameter=width, cr=cr, h1=h1, m=m) / (thickness * width)
+
+
 class ConeLoad(NamedTuple):
     """Croasdale's loads on a cone [N]: the totals and the five parts of F_H's numerator."""
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import JobError
 from ..kernels.walls import PLANE, TRIANGLE, wall_forces
-from .contact import contact_law, law_records
+from .contact import contact_law, law_records, structure_crushing_pressure
 
 
 def build_walls(job, *, default_kn: float, base_dir: pathlib.Path | None = None):
@@ -23,7 +23,8 @@ def build_walls(job, *, default_kn: float, base_dir: pathlib.Path | None = None)
     for k, wall in enumerate(job.walls):
         names.append(wall.name or f"wall{k}")
         kn = wall.normal_stiffness if wall.normal_stiffness is not None else default_kn
-        row = contact_law(job, kn=kn, friction=wall.friction)
+        row = contact_law(job, kn=kn, friction=wall.friction,
+                          crushing_pressure=structure_crushing_pressure(job, width=wall.crushing_width))
         if wall.type == "plane":
             n = np.asarray(wall.normal, float)
             geometry.append(np.concatenate([wall.point, n / np.linalg.norm(n), np.zeros(3)]))
@@ -70,8 +71,11 @@ class WallTerm:
     """Contact of the ice with the fixed [[walls]] (kernels/walls.py), with the reaction on each wall.
 
     After each step ``force`` and ``moment`` hold, per wall triangle or plane, this rank's ice load
-    [N] and its moment about the origin [N m]; ``c.wall_energy`` the elastic energy in wall contacts [J].
+    [N] and its moment about the origin [N m]; ``c.wall_energy`` the elastic energy in wall contacts [J];
+    ``crushing`` the contacts in plastic flow.
     """
+
+    crushing = 0
 
     name = "walls"
 
@@ -85,8 +89,9 @@ class WallTerm:
     def add_forces(self, p, c, dt):
         self.force[:] = 0.0
         self.moment[:] = 0.0
-        c.wall_energy = wall_forces(p.nlocal, p.x, p.v, p.w, p.radius, p.mass, self.kinds, self.geometry,
-                                    self.params, p.wall_hist, dt, p.force, p.torque, self.force, self.moment)
+        c.wall_energy, self.crushing = wall_forces(
+            p.nlocal, p.x, p.v, p.w, p.radius, p.mass, p.cell_area, p.half_height, self.kinds, self.geometry,
+            self.params, p.wall_hist, dt, p.force, p.torque, self.force, self.moment)
 
     def local_loads(self) -> np.ndarray:
         """(n_wall_entries, 6): force [N] of this rank's ice on each [[walls]] entry, and its moment
@@ -102,8 +107,10 @@ class WallTerm:
         f, t, wf = np.zeros((p.n, 3)), np.zeros((p.n, 3)), np.zeros((len(self.kinds), 3))
         params = self.params.copy()
         params["kt"], params["zeta"], params["mu"] = 0.0, 0.0, 0.0  # elastic normal force only
-        wall_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, self.kinds,
-                    self.geometry, params, np.zeros_like(p.wall_hist), 0.0, f, t, wf, np.zeros_like(wf))
+        params["crushing_pressure"] = np.inf
+        wall_forces(p.nlocal, p.x, np.zeros_like(p.v), np.zeros_like(p.w), p.radius * 0.99, p.mass, p.cell_area,
+                    p.half_height, self.kinds, self.geometry, params, np.zeros_like(p.wall_hist), 0.0, f, t, wf,
+                    np.zeros_like(wf))
         hit = np.nonzero(np.abs(wf).sum(axis=1) > 0)[0]
         if len(hit):
             k = int(self.owner[hit[0]])

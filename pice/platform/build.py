@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import JobError
 from ..kernels.geometry import rotation_matrix
-from ..physics.contact import contact_law
+from ..physics.contact import contact_law, structure_crushing_pressure
 from .catenary import LayoutError, Segment
 from .hull_buoyancy import BRACE_RECORD, submerged
 from .hull_contact import Hull, build_triangle_grid, hull_forces
@@ -61,7 +61,9 @@ def hulls_from_job(job, *, default_kn: float, reach: float, base_dir=None) -> li
     for k, body in enumerate(job.bodies):
         v, t = hull_mesh(job, k, base_dir)
         kn = body.normal_stiffness if body.normal_stiffness is not None else default_kn
-        law = contact_law(job, kn=kn, friction=body.friction)
+        # crushing: the hull's width across the drift (its extent in y, body frame) for ISO 19906
+        law = contact_law(job, kn=kn, friction=body.friction,
+                          crushing_pressure=structure_crushing_pressure(job, width=float(np.ptp(v[:, 1]))))
         out.append(Hull(body.name, v, t, build_triangle_grid(v, t, reach=reach), law))
     return out
 

@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit
 
 from ..kernels import JIT
-from ..kernels.contact_law import contact_energy, normal_force, tangential_force
+from ..kernels.contact_law import contact_energy, contact_height, crushing_cap, plastic_normal_force, tangential_force
 from ..kernels.geometry import closest_point_on_triangle, rotation_matrix
 from ..physics.contact import ContactLaw
 
@@ -60,13 +60,15 @@ def build_triangle_grid(vertices: np.ndarray, triangles: np.ndarray, *, reach: f
 
 
 @njit(**JIT)
-def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_origin, cell, dims, cell_start,
-                cell_tris, law, hist, dt, force, torque):
-    """Add hull contact forces to owned particles; return the (6,) load on the body and the elastic
-    energy stored in the contacts [J] (as a tuple (load, energy)); the load is
-    (force [N], moment about its CG [N m]) from this rank's ice.
+def hull_forces(nlocal, x, v, w, radius, mass, cell_area, half_height, pose, vertices, triangles, grid_origin,
+                cell, dims, cell_start, cell_tris, law, hist, dt, force, torque):
+    """Add hull contact forces to owned particles; return (load, energy, crushing): the (6,) load on
+    the body (force [N], moment about its CG [N m]) from this rank's ice, the elastic energy stored in
+    the contacts [J] and the number of contacts in plastic flow (crushing).
 
-    pose: (13,) x_cg, q (w, x, y, z), v_cg, omega (space frame). hist: (n, 3) tangential force [N].
+    pose: (13,) x_cg, q (w, x, y, z), v_cg, omega (space frame). hist: (n, 4) tangential force [N]
+    and plastic penetration [m]. The crushing area is the chord of the sphere's section by the hull's
+    surface times the element's contact height, as for walls.
     """
     xc = pose[0:3]
     R = rotation_matrix(pose[3:7])
@@ -74,6 +76,7 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
     om = pose[10:13]
     load = np.zeros(6)
     energy = 0.0
+    ncrushing = 0
     pb = np.empty(3)
     cp = np.empty(3)
     best = np.empty(3)
@@ -90,7 +93,7 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
                 inside = False
                 break
         if not inside:
-            hist[i, 0] = hist[i, 1] = hist[i, 2] = 0.0
+            hist[i, :] = 0.0
             continue
         ci = int((pb[0] - grid_origin[0]) / cell)
         cj = int((pb[1] - grid_origin[1]) / cell)
@@ -108,7 +111,7 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
                 found = True
                 best[:] = cp
         if not found:
-            hist[i, 0] = hist[i, 1] = hist[i, 2] = 0.0
+            hist[i, :] = 0.0
             continue
         # normal (space frame) from the hull towards the particle centre
         nb0, nb1, nb2 = (pb[0] - best[0]) / dmin, (pb[1] - best[1]) / dmin, (pb[2] - best[2]) / dmin
@@ -123,11 +126,15 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
         u1 = v[i, 1] + w[i, 2] * (-r * n0) - w[i, 0] * (-r * n2) - (vb[1] + om[2] * a0 - om[0] * a2)
         u2 = v[i, 2] + w[i, 0] * (-r * n1) - w[i, 1] * (-r * n0) - (vb[2] + om[0] * a1 - om[1] * a0)
         un = u0 * n0 + u1 * n1 + u2 * n2
-        fn = normal_force(law.kn, law.zeta, mass[i], delta, un)
         h = hist[i]
+        cap = crushing_cap(law.crushing_pressure, 2.0 * r * delta - delta * delta if delta < r else r * r,
+                           contact_height(r, cell_area[i], half_height[i]))
+        dp0 = h[3]
+        fn, h[3] = plastic_normal_force(law.kn, law.zeta, mass[i], delta, dp0, un, cap)
+        ncrushing += 1 if h[3] > dp0 else 0
         h[0], h[1], h[2], hm = tangential_force(h[0], h[1], h[2], n0, n1, n2, u0, u1, u2, un, law.kt, dt,
                                                 law.mu * fn)
-        energy += contact_energy(law.kn, law.kt, delta, hm)
+        energy += contact_energy(law.kn, law.kt, delta - h[3], hm)
         f0, f1, f2 = fn * n0 + h[0], fn * n1 + h[1], fn * n2 + h[2]
         force[i, 0] += f0
         force[i, 1] += f1
@@ -141,7 +148,7 @@ def hull_forces(nlocal, x, v, w, radius, mass, pose, vertices, triangles, grid_o
         load[3] -= a1 * f2 - a2 * f1
         load[4] -= a2 * f0 - a0 * f2
         load[5] -= a0 * f1 - a1 * f0
-    return load, energy
+    return load, energy, ncrushing
 
 
 class HullContactTerm:
@@ -159,10 +166,13 @@ class HullContactTerm:
         self.poses = np.zeros((len(hulls), 13))
         self.loads = np.zeros((len(hulls), 6))
         self.energy = 0.0
+        self.crushing = 0
 
     def add_forces(self, p, c, dt):
-        self.energy = 0.0
+        self.energy, self.crushing = 0.0, 0
         for k, h in enumerate(self.hulls):
-            self.loads[k], e = hull_forces(p.nlocal, p.x, p.v, p.w, p.radius, p.mass, self.poses[k], h.vertices,
-                                        h.triangles, *h.grid, h.law, p.hull_hist[:, k, :], dt, p.force, p.torque)
+            self.loads[k], e, ncrushing = hull_forces(
+                p.nlocal, p.x, p.v, p.w, p.radius, p.mass, p.cell_area, p.half_height, self.poses[k], h.vertices,
+                h.triangles, *h.grid, h.law, p.hull_hist[:, k, :], dt, p.force, p.torque)
             self.energy += e
+            self.crushing += ncrushing

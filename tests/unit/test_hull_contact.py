@@ -24,8 +24,9 @@ def _setup(n, pose, xs, r=0.5, vs=None):
 def _call(x, v, pose, verts, tris, grid, dt=1e-3, hist=None, r=0.5):
     n = len(x)
     force, torque = np.zeros((n, 3)), np.zeros((n, 3))
-    hist = np.zeros((n, 3)) if hist is None else hist
-    load, _ = hull_forces(n, x, v, np.zeros((n, 3)), np.full(n, r), np.full(n, 400.0), pose, verts, tris,
+    hist = np.zeros((n, 4)) if hist is None else hist
+    load, _, _ = hull_forces(n, x, v, np.zeros((n, 3)), np.full(n, r), np.full(n, 400.0), np.zeros(n), np.zeros(n),
+                             pose, verts, tris,
                        *grid, PARAMS, hist, dt, force, torque)
     return force, torque, load, hist
 
@@ -62,7 +63,7 @@ def test_no_force_when_clear_and_friction_is_capped():
     force, _, load, _ = _call(x, v, pose, verts, tris, grid)
     assert not force.any() and not load.any()
     verts, tris, grid, x, v = _setup(1, pose, [[0.0, 0.0, 2.49]], vs=[[1.0, 0.0, 0.0]])
-    hist = np.zeros((1, 3))
+    hist = np.zeros((1, 4))
     for _ in range(50):  # keep sliding at 1 m/s: the tangential spring saturates at mu F_n
         force, _, _, hist = _call(x, v, pose, verts, tris, grid, hist=hist)
     fn = 1e7 * 0.01
@@ -77,12 +78,12 @@ def test_hull_velocity_counts_in_the_damping_and_friction():
     params = PARAMS
     pose = np.concatenate([np.zeros(3), [1.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0], np.zeros(3)])
     verts, tris, grid, x, v = _setup(1, pose, [[0.0, 0.0, 2.49]], vs=[[1.0, 0.0, 0.0]])
-    hist = np.zeros((1, 3))
+    hist = np.zeros((1, 4))
     for _ in range(20):
         force, _, _, hist = _call(x, v, pose, verts, tris, grid, hist=hist)
     assert abs(force[0, 0]) < 1e-9 * force[0, 2]
     spin = np.concatenate([np.zeros(3), [1.0, 0.0, 0.0, 0.0], np.zeros(3), [0.0, 0.0, 0.1]])
     verts, tris, grid, x, v = _setup(1, spin, [[0.0, 2.0, 2.49]])
-    force, _, _, _ = _call(x, v, spin, verts, tris, grid, hist=np.zeros((1, 3)))
+    force, _, _, _ = _call(x, v, spin, verts, tris, grid, hist=np.zeros((1, 4)))
     assert force[0, 0] < 0.0  # surface moves along -x at (0, 2): omega x r = (0,0,0.1) x (0,2,2) -> -0.2 x
     assert params.mu * force[0, 2] >= abs(force[0, 0])
