@@ -72,6 +72,7 @@ snapshots = 3
 [water]
 density = 1025.0
 current = [{current}, 0.0]
+ice_drag = "morison"
 drag_coefficient = {drag}
 depth = 60.0
 

@@ -37,11 +37,20 @@ class RunSpec(Section):
 
 
 class WaterSpec(Section):
-    """[water]: still water with a uniform current."""
+    """[water]: still water with a uniform current.
+
+    The water drags the ice by ``ice_drag``: "skin" (the default: ice-ocean skin friction per unit
+    area of the sheet, tau = rho_w C_w |u_rel| u_rel with C_w = ``skin_drag_coefficient``, 0.0055 by
+    default, a common value of the 0.003-0.006 measured under sea ice; docs/crushing.md) or
+    "morison" (form drag on every element, Eq. 8 of Zhu & Ji 2022, with ``drag_coefficient``:
+    right for floes, rubble and lines, not for a sheet, where it grows with the sheet's size).
+    """
 
     density: quantity("kg/m^3") = 1025.0
     level: quantity("m", gt=None) = 0.0
     current: vector(Vec2, "m/s") = (0.0, 0.0)
+    ice_drag: Literal["skin", "morison"] = "skin"
+    skin_drag_coefficient: quantity("", gt=None, ge=0.0) = 0.0055
     drag_coefficient: quantity("", gt=None, ge=0.0) = 1.0
     heave_damping_ratio: quantity("", gt=None, ge=0.0, lt=1.0) = 0.0
     depth: Optional[quantity("m")] = None  # still-water depth to the flat seabed (mooring lines need it)

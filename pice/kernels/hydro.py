@@ -3,8 +3,11 @@
 Buoyancy is rho_w g times the submerged volume: of the spherical cap for "sphere" elements, or of
 the element's vertical prism (footprint ``cell_area``, height 2 ``half_height``) for "cell" elements
 that stand for their share of a continuous plate. It acts through the centre (no moment).
-Drag is the first term of Eq. 8 of Zhu & Ji (2022): f = 1/2 C_d D^2 rho_w |v_r| v_r, scaled by the
-submerged fraction of the element's height; v_r is the current relative to the element.
+Drag is either Morison form drag on each element, the first term of Eq. 8 of Zhu & Ji (2022),
+f = 1/2 C_d D^2 rho_w |v_r| v_r scaled by the submerged fraction of the element's height, or ice-ocean
+skin friction on the sheet's underside, f = rho_w C_w |u_r| u_r A_f with u_r the horizontal current
+relative to the element and A_f its footprint (the cell area; sqrt(3)/2 D^2, its share of a close-packed
+layer, for a sphere). v_r is the current relative to the element.
 """
 
 import math
@@ -12,6 +15,8 @@ import math
 from numba import njit
 
 from . import JIT
+
+SPHERE_FOOTPRINT = 2.0 * math.sqrt(3.0)  # footprint / r^2 of a sphere in a close-packed layer: sqrt(3)/2 (2r)^2
 
 
 @njit(**JIT)
@@ -71,6 +76,7 @@ def hydro_forces(nlocal, x, v, radius, mass, cell_area, half_height, g, water, h
         heave_c: (n,) linear heave damping coefficient [N s/m] (wave radiation), 0 for none.
     """
     level, rho_w, ucx, ucy, cd = water.level, water.density, water.current_x, water.current_y, water.drag_coefficient
+    cw = water.skin_drag_coefficient
     for i in range(nlocal):
         force[i, 2] -= mass[i] * g
         r = radius[i]
@@ -88,5 +94,12 @@ def hydro_forces(nlocal, x, v, radius, mass, cell_area, half_height, g, water, h
             force[i, 0] += c * vr0
             force[i, 1] += c * vr1
             force[i, 2] += c * vr2
+        if cw > 0.0:
+            ur0 = ucx - v[i, 0]
+            ur1 = ucy - v[i, 1]
+            footprint = cell_area[i] if cell_area[i] > 0.0 else SPHERE_FOOTPRINT * r * r
+            c = rho_w * cw * math.sqrt(ur0 * ur0 + ur1 * ur1) * footprint
+            force[i, 0] += c * ur0
+            force[i, 1] += c * ur1
         if heave_c[i] > 0.0:
             force[i, 2] -= heave_c[i] * v[i, 2]

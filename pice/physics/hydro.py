@@ -13,9 +13,12 @@ import numpy as np
 
 from ..kernels.hydro import buoyancy_potential, gravity_forces, hydro_forces, submerged
 
-Water = namedtuple("Water", ["level", "density", "current_x", "current_y", "drag_coefficient"])
+Water = namedtuple("Water", ["level", "density", "current_x", "current_y", "drag_coefficient",
+                             "skin_drag_coefficient"])
 Water.__doc__ = """Still water with a uniform current, as the hydrodynamics kernel reads it: level [m],
-density [kg/m^3], current_x, current_y [m/s], drag_coefficient [-] (C_d of Eq. 8)."""
+density [kg/m^3], current_x, current_y [m/s], drag_coefficient [-] (C_d of Eq. 8: Morison form drag
+on each element; 0 when the job asks for skin drag), skin_drag_coefficient [-] (C_w of the ice-ocean
+skin friction per unit area; 0 when the job asks for Morison drag)."""
 
 
 def water_from_job(job) -> Water | None:
@@ -23,8 +26,10 @@ def water_from_job(job) -> Water | None:
     w = job.water
     if w is None:
         return None
+    skin = w.ice_drag == "skin"
     return Water(level=float(w.level), density=float(w.density), current_x=float(w.current[0]),
-                 current_y=float(w.current[1]), drag_coefficient=float(w.drag_coefficient))
+                 current_y=float(w.current[1]), drag_coefficient=0.0 if skin else float(w.drag_coefficient),
+                 skin_drag_coefficient=float(w.skin_drag_coefficient) if skin else 0.0)
 
 
 def heave_damping(job, particles) -> np.ndarray:

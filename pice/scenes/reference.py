@@ -10,7 +10,7 @@ def zhu_ji_sheet_job(*, length: float = 400.0, width: float = 200.0, source: str
 
     data = {
         "run": {"duration": 200.0},
-        "water": {"density": 1035.0, "current": [1.0, 0.0], "drag_coefficient": 1.0},
+        "water": {"density": 1035.0, "current": [1.0, 0.0]},  # skin drag (the default)
         "ice": {"length": length, "width": width, "density": 920.0, "velocity": [1.0, 0.0]},
         "bond": {"normal_stiffness": 1.72e7, "shear_stiffness": 1.72e6, "normal_strength": 1.5e6,
                  "shear_strength": 1.5e6, "friction": 0.3},

@@ -27,7 +27,7 @@ from pice.simulation import Simulation
 def _job(dt_safety=0.5):
     return parse_job({
         "run": {"duration": 10.0, "dt_safety": dt_safety},
-        "water": {"density": 1035.0, "drag_coefficient": 0.0, "heave_damping_ratio": 0.0},
+        "water": {"density": 1035.0, "ice_drag": "morison", "drag_coefficient": 0.0, "heave_damping_ratio": 0.0},
         "ice": {"length": 12.0, "width": 6.0, "density": 920.0, "youngs_modulus": 1e9, "poissons_ratio": 0.3},
         "bond": {"breakable": False, "damping_ratio": 0.0},
         "contact": {"restitution": 1.0},

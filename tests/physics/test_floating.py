@@ -45,7 +45,7 @@ def cell_draft(t: float) -> float:
 def _job(volume, length, width):
     return parse_job({
         "run": {"duration": 10.0},
-        "water": {"density": RHO_W, "level": LEVEL, "heave_damping_ratio": 0.3, "drag_coefficient": 1.0},
+        "water": {"density": RHO_W, "level": LEVEL, "heave_damping_ratio": 0.3, "ice_drag": "morison", "drag_coefficient": 1.0},
         "ice": {"length": length, "width": width, "thickness": THICKNESS, "element_diameter": 1.0,
                 "density": RHO_I, "element_volume": volume},
         "bond": {"normal_stiffness": 1.72e7, "shear_stiffness": 1.72e6, "breakable": False},
