@@ -54,6 +54,7 @@ def series_row(sim) -> dict[str, np.ndarray | float]:
     if sim.job.crushing is not None:  # contacts in plastic flow this step: ice-ice, ice-structure
         structure = sum(getattr(t, "crushing", 0) for t in (sim.walls, sim.hull_term) if t is not None)
         row["crushing_contacts"] = sim.comm.sum(np.array([sim.ice_contact_term.crushing, structure], dtype=np.float64))
+        row["crushed_elements"] = float(sim.n_initial - sim.comm.sum(sim.p.nlocal))  # removed so far
     if sim.boundary_term is not None:  # the far field's push on the sheet [N]
         row["boundary_force"] = sim.comm.sum(sim.boundary_term.force)
     if sim.platform is not None:

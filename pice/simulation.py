@@ -29,6 +29,7 @@ from .physics.bond import BondTerm
 from .physics.bond_calibration import bond_params_from_job
 from .physics.boundary import SpringBoundaryTerm
 from .physics.contact import IceContactTerm, ice_contact_law
+from .physics.crushing import crushed_through, remove_elements
 from .physics.hydro import GravityTerm, WaterTerm, heave_damping, water_from_job
 from .physics.timestep import choose_step, stable_step
 from .physics.walls import WallTerm
@@ -60,6 +61,7 @@ class Simulation:
         # every rank builds the same whole sheet (deterministic), then keeps its own part
         self.p, self.sheet = build_level_ice(job)
         p = self.p
+        self.n_initial = p.n  # elements of the whole sheet (crushed ones are removed)
         self.bond = bond_params_from_job(job, n_layers=self.sheet.n_layers, spacing=self.sheet.spacing)
         self.contact_law = ice_contact_law(job, bond_kn=self.bond.kn)
         self.gravity = job.gravity
@@ -222,7 +224,11 @@ class Simulation:
         p = self.p
         ratio, i, nonfinite = max_step_displacement(p.nlocal, p.v, p.w, p.radius, self.dt)
         bad = 1.0 if (nonfinite or ratio > RUNAWAY_STEP_FRACTION) else 0.0
-        if self.comm.max(bad) == 0.0:
+        crushed = crushed_through(p) if self.job.crushing is not None else ()
+        flags = self.comm.max(np.array([bad, 1.0 if len(crushed) else 0.0]))
+        if flags[0] == 0.0:
+            if flags[1]:
+                self._remove_crushed(crushed)
             self.domain.halo.check_bond_lengths(p)
             return
         if not bad:  # another rank holds the runaway element: it reports, we stop with it
@@ -238,6 +244,15 @@ class Simulation:
         raise InstabilityError(
             f"unstable at step {self.c.step} (t = {self.c.time:.6g} s): element gid {int(p.gid[i])} at "
             f"{np.array2string(p.x[i], precision=3)} m shows {what}; likely cause: {cause}")
+
+    def _remove_crushed(self, crushed) -> None:
+        """Remove the elements crushed through on every rank (physics/crushing.py; collective)."""
+        parts = self.comm.gather(self.p.gid[crushed])
+        gone = self.comm.bcast(np.concatenate(parts) if parts is not None else None)
+        events = remove_elements(self.p, gone, step=self.c.step, time=self.c.time)
+        self.c.broken += len(events)
+        self.c.events.extend(events)
+        self.domain.rebuild(self.p)
 
     # -- state for output ----------------------------------------------------------------------
     def sync(self) -> None:

@@ -34,8 +34,9 @@ INTACT = 0
 TENSION_BENDING = 1  # Eq. 3: tension plus bending reaches the normal strength
 SHEAR_TWIST = 2      # Eqs. 4-5: shear plus twist reaches the shear strength
 COMPRESSION = 3      # compression plus bending reaches the bond's compressive strength (optional cap)
+CRUSHED = 4          # one of its elements was crushed through at a structure (physics/crushing.py)
 FAILURE_MODES = {TENSION_BENDING: "tension + bending", SHEAR_TWIST: "shear + twist",
-                 COMPRESSION: "compression + bending"}
+                 COMPRESSION: "compression + bending", CRUSHED: "element crushed"}
 
 MOHR_COULOMB = 0     # tau_c = sigma_s - mu sigma_n: compression raises the shear strength
 ZHU_JI_EQ5 = 1       # tau_c = mu sigma_max + sigma_s: Eq. 5 of Zhu & Ji (2022) as printed

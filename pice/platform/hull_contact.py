@@ -101,6 +101,7 @@ def hull_forces(nlocal, x, v, w, radius, mass, cell_area, half_height, pose, ver
         cidx = (ck * dims[1] + cj) * dims[0] + ci
         dmin = r
         found = False
+        tbest = -1
         for p in range(cell_start[cidx], cell_start[cidx + 1]):
             t = cell_tris[p]
             closest_point_on_triangle(pb, vertices[triangles[t, 0]], vertices[triangles[t, 1]],
@@ -109,16 +110,27 @@ def hull_forces(nlocal, x, v, w, radius, mass, cell_area, half_height, pose, ver
             if dd < dmin and dd > 0.0:
                 dmin = dd
                 found = True
+                tbest = t
                 best[:] = cp
         if not found:
             hist[i, :] = 0.0
             continue
-        # normal (space frame) from the hull towards the particle centre
+        # outward normal (body frame): from the surface towards the centre, or away from it when the
+        # centre has crossed the surface (a crushing element, up to one radius deep), judged by the
+        # closest triangle's outward face normal (the hull's triangles face outwards)
         nb0, nb1, nb2 = (pb[0] - best[0]) / dmin, (pb[1] - best[1]) / dmin, (pb[2] - best[2]) / dmin
+        va, vb_, vc = vertices[triangles[tbest, 0]], vertices[triangles[tbest, 1]], vertices[triangles[tbest, 2]]
+        e10, e11, e12 = vb_[0] - va[0], vb_[1] - va[1], vb_[2] - va[2]
+        e20, e21, e22 = vc[0] - va[0], vc[1] - va[1], vc[2] - va[2]
+        side = nb0 * (e11 * e22 - e12 * e21) + nb1 * (e12 * e20 - e10 * e22) + nb2 * (e10 * e21 - e11 * e20)
+        depth = r - dmin
+        if side < 0.0:
+            nb0, nb1, nb2 = -nb0, -nb1, -nb2
+            depth = r + dmin
         n0 = R[0, 0] * nb0 + R[0, 1] * nb1 + R[0, 2] * nb2
         n1 = R[1, 0] * nb0 + R[1, 1] * nb1 + R[1, 2] * nb2
         n2 = R[2, 0] * nb0 + R[2, 1] * nb1 + R[2, 2] * nb2
-        delta = r - dmin
+        delta = depth
         c0, c1, c2 = x[i, 0] - r * n0, x[i, 1] - r * n1, x[i, 2] - r * n2  # contact point
         a0, a1, a2 = c0 - xc[0], c1 - xc[1], c2 - xc[2]
         # velocity of the sphere's surface point minus the hull's at the contact point

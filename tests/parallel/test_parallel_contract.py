@@ -43,8 +43,11 @@ def test_one_two_three_ranks_agree(tmp_path):
         assert np.array_equal(gid, gid1)
         assert np.abs(x - x1).max() < 1e-9
         assert broken == broken1
-        # the reduced wall force (rank 0 reduction) agrees too, relative to its peak
-        assert np.abs(wall - wall1).max() <= 1e-9 * np.abs(wall1).max()
+        # the reduced wall force (rank 0 reduction) agrees too, relative to its peak. Its terms are
+        # summed in another order on each rank count and each is k_wall (8.2e8 N/m) times an overlap
+        # that agrees only as the positions do: 1e-7 of the peak is 1e-12 m of overlap on one contact
+        # (measured 5e-9 of the peak, 6e-5 N, with the plate-calibrated sheet, which breaks more)
+        assert np.abs(wall - wall1).max() <= 1e-7 * np.abs(wall1).max()
 
 
 def test_platform_on_one_and_two_ranks_agrees(tmp_path):

@@ -103,3 +103,65 @@ def test_iso_pressure_is_eq15_over_the_contact_face():
         crushing_load(thickness=1.0, diameter=50.0), rel=1e-12)
     sim = _element_against_wall(structure="iso19906")
     assert sim.walls.params["crushing_pressure"][0] == pytest.approx(crushing_pressure(thickness=1.0, width=1.0))
+
+
+def _face_run(*, d, h=1.0, duration=4.0, speed=0.5, length=30.0, width=50.0):
+    """A sheet `width` wide, driven at the far field (rear rows on springs to anchors at `speed`)
+    against a rigid vertical plane as wide as the sheet, with ISO 19906 crushing for that width.
+    Returns (time [s], load on the face along x [N], crushed elements) every 0.05 s, and p_G h w [N]."""
+    job = parse_job({
+        "run": {"duration": duration, "check_every": 10},
+        "water": {"density": 1025.0},
+        "ice": {"length": length, "width": width, "thickness": h, "element_diameter": d, "element_volume": "cell",
+                "origin": [-length - 0.05, -width / 2], "velocity": [speed, 0.0], "youngs_modulus": 1e9,
+                "poissons_ratio": 0.3, "flexural_strength": 0.5e6, "compressive_strength": 2.5e6,
+                "push": {"speed": speed, "rows": 2, "stiffness": 2e7 * d, "damping_ratio": 1.0}},
+        "bond": {"damping_ratio": 0.1},
+        "contact": {"friction": 0.15, "restitution": 0.3},
+        "crushing": {"structure": "iso19906"},
+        "walls": [{"type": "plane", "point": [0.0, 0.0, 0.0], "normal": [-1.0, 0.0, 0.0], "friction": 0.15,
+                   "crushing_width": width}],
+    })
+    sim = Simulation(job)
+    every = max(1, int(0.05 / sim.dt))
+    rows = []
+    while sim.c.time < duration:
+        sim.advance(every)
+        r = sim.series_row()
+        rows.append((sim.c.time, r["wall_force"][0][0], r["crushed_elements"]))
+    return np.array(rows), crushing_load(thickness=h, diameter=width)
+
+
+def _crushing_phase(rows, after=4.0 / 3.0):
+    """The load once the front has met the face and the sheet has taken up the drive (t > 4/3 s)."""
+    return rows[rows[:, 0] > after, 1]
+
+
+def test_vertical_face_mean_load_is_iso19906_with_2m_elements():
+    """ISO 19906 Eq. 15 (seed 000: 40.1 MN for h = 1 m, w = 50 m) on a 50 m face: the mean load over
+    the crushing phase within 25 % (the issue's tolerance; measured 1-3 % at 1-2 m elements: the
+    staggered fronts of the close-packed rows overlap in contact, as each element is removed only once
+    crushed through a whole diameter) and elements are being crushed through and removed."""
+    rows, iso = _face_run(d=2.0, duration=6.0)
+    load = _crushing_phase(rows)
+    assert load.mean() == pytest.approx(iso, rel=0.25)
+    assert rows[-1, 2] > 0 and np.all(np.diff(rows[:, 2]) >= 0)
+
+
+@pytest.mark.slow
+def test_vertical_face_load_converges_with_element_size_and_stays_bounded():
+    """Mean and peak load at 1, 1.5 and 2 m elements agree within 15 % (the issue), each within 25 %
+    of ISO 19906; over 12 s of drive the load never exceeds 1.5 x ISO (bounded however long the
+    far field pushes: the ice crushes at the face); h = 1.6 m gives ISO's 60.1 MN within 25 %."""
+    means, peaks = [], []
+    for d in (1.0, 1.5, 2.0):
+        rows, iso = _face_run(d=d, duration=12.0 if d == 2.0 else 4.0)
+        load = _crushing_phase(rows)
+        means.append(load.mean())
+        peaks.append(load.max())
+        assert load.mean() == pytest.approx(iso, rel=0.25)
+        assert load.max() < 1.5 * iso
+    assert max(means) / min(means) < 1.15 and max(peaks) / min(peaks) < 1.15
+    rows, iso = _face_run(d=1.0, h=1.6)
+    assert iso == pytest.approx(60.1e6, rel=1e-3)
+    assert _crushing_phase(rows).mean() == pytest.approx(iso, rel=0.25)
