@@ -21,8 +21,10 @@ import numpy as np
 
 from . import diagnostics
 from .errors import InstabilityError
+from .io.output import refuse_outputs_beyond_run
 from .kernels.bonds import sync_mate_history
 from .kernels.integrate import drift, kick, max_step_displacement
+from .memory import refuse_oversized
 from .parallel.comm import on_root, world
 from .parallel.domain import Domain, ghost_width
 from .physics.bond import BondTerm
@@ -59,6 +61,7 @@ class Simulation:
         self.job = job
         self.comm = comm if comm is not None else world()
         # every rank builds the same whole sheet (deterministic), then keeps its own part
+        refuse_oversized(job, self.comm, base_dir)  # before the sheet is allocated (pice/memory.py)
         self.p, self.sheet = build_level_ice(job)
         p = self.p
         self.n_initial = p.n  # elements of the whole sheet (crushed ones are removed)
@@ -74,6 +77,7 @@ class Simulation:
             self.walls.refuse_initial_overlap(job, p)
         self.limit = self._time_step()
         self.dt = self.limit.chosen
+        refuse_outputs_beyond_run(job, self.total_steps, self.dt)
         self.terms = self._force_terms()
         self.wall_total = None   # rank 0: the reduced load on each [[walls]] entry
         self.body_total = None   # rank 0: the reduced ice load on each body

@@ -22,6 +22,20 @@ from .run_file import RunFile
 from .xdmf import write_xdmf_quietly
 
 
+def refuse_outputs_beyond_run(job, total_steps: int, dt: float) -> None:
+    """A schedule asking for more snapshots than the run has steps (t = 0 and every step at most)
+    is refused, not clamped: JobError naming run.snapshots, the steps the run has and the fix. The
+    other outputs cannot exceed the run: series rows every ``series_every`` steps and checkpoints
+    every ``checkpoint_every`` seconds are written at least at the start and the end."""
+    from ..errors import JobError
+
+    if job.run.snapshots > total_steps + 1:
+        raise JobError(f"{job.source}: run.snapshots = {job.run.snapshots}: more snapshots than the run has steps "
+                       f"(run.duration = {job.run.duration:g} s at dt = {dt:.4g} s is {total_steps:,} steps, so at "
+                       f"most {total_steps + 1:,} snapshots: t = 0 and every step); refused, not clamped: lower "
+                       "run.snapshots or lengthen run.duration")
+
+
 def snapshot_steps(total_steps: int, count: int) -> set[int]:
     """Steps at which to write snapshots: ``count`` evenly spaced, first and last included."""
     if count <= 0:

@@ -3,6 +3,7 @@ per problem naming the file, the key, the value and what is expected."""
 
 from __future__ import annotations
 
+import io
 import pathlib
 
 from pydantic import ValidationError
@@ -24,15 +25,32 @@ def load_job(path: str | pathlib.Path) -> Job:
         what = "is a directory" if path.is_dir() else "file not found"
         raise JobError(f"{path}: {what}: give the path of a TOML job file (see jobs/)")
     try:
-        # a byte that is not UTF-8 reads as U+FFFD instead of failing the whole read
-        text = path.read_text(encoding="utf-8", errors="replace")
+        raw = path.read_bytes()
     except OSError as exc:
         raise JobError(f"{path}: cannot read the job file ({exc.strerror or exc})") from None
+    text = decode_job_text(raw, path)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise JobError(f"{path}: not valid TOML: {exc}") from None
     return parse_job(data, source=str(path), text=text, base_dir=path.parent)
+
+
+def decode_job_text(raw: bytes, path) -> str:
+    """The text of a job file's bytes: UTF-8 (as TOML requires; a leading byte-order mark is dropped),
+    line endings read as Python's text files read them (\\r\\n and \\r become \\n). Any other encoding
+    is a JobError naming the first byte that is not UTF-8 by its offset, line and column."""
+    try:
+        raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        at = exc.start
+        line = raw.count(b"\n", 0, at) + 1
+        column = at - (raw.rfind(b"\n", 0, at) + 1) + 1
+        what = (" (it starts with a UTF-16 byte-order mark: the file is UTF-16)"
+                if raw[:2] in (b"\xff\xfe", b"\xfe\xff") else "")
+        raise JobError(f"{path}: not UTF-8 text: byte offset {at} (line {line}, column {column}) holds 0x{raw[at]:02x}, "
+                       f"which is not UTF-8{what}; save the job file as UTF-8 (TOML files are UTF-8)") from None
+    return io.TextIOWrapper(io.BytesIO(raw), encoding="utf-8-sig").read()
 
 
 def parse_job(data: dict, source: str = "<job>", text: str = "", base_dir: pathlib.Path | None = None) -> Job:

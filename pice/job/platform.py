@@ -141,4 +141,31 @@ def check_platform(job, bad) -> None:
                 f"{job.water.depth:g} m)")
         if job.gravity == 0.0:
             bad(("moorings", k), m.body, "mooring lines need gravity > 0 (their catenary)")
+        if job.water is not None:
+            for j, f in enumerate(m.fairleads):
+                if f[2] > job.water.level:
+                    bad(("moorings", k, "fairleads", j), list(f),
+                        f"is above the water (z > water.level = {job.water.level:g} m): a line weighs its "
+                        "wet_weight everywhere, which holds under water only (its weight in air is not "
+                        "modelled); put the fairlead at or below the water level")
+        _check_line_stiffness(m, k, bad)
+
+
+def _check_line_stiffness(m: MooringSpec, k: int, bad) -> None:
+    """The stiffness of a line's segments against its own weight and its pretension (linear elastic
+    line, T = EA x strain): a segment softer than a tenth of the line's wet weight W [N] would be
+    stretched more than ten-fold by that weight alone (no line model holds there); at a tension
+    equal to the smallest EA [N] the line is stretched to twice its length (real lines break far
+    below that), which bounds the pretension."""
+    weight = sum(s.wet_weight * s.length for s in m.segments)
+    soft = [j for j, s in enumerate(m.segments) if s.ea < 0.1 * weight]
+    for j in soft:
+        bad(("moorings", k, "segments", j, "ea"), m.segments[j].ea,
+            f"must be >= {0.1 * weight:.4g} N, a tenth of the line's wet weight ({weight:.4g} N): softer, its own "
+            "weight would stretch it more than ten-fold (T/EA > 10); check the unit (N, e.g. 1.0e8 for a chain)")
+    j = min(range(len(m.segments)), key=lambda i: m.segments[i].ea)
+    if not soft and m.pretension >= m.segments[j].ea:
+        bad(("moorings", k, "pretension"), m.pretension,
+            f"must be < {m.segments[j].ea:g} N, the axial stiffness moorings[{k}].segments[{j}].ea: at a tension "
+            "equal to EA the linear-elastic line is stretched to twice its length (real lines break far below)")
 

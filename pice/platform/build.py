@@ -141,7 +141,12 @@ def _lines(spec, lines, segs, w, seabed_z: float):
                             bond_damping=spec.bond_damping, seabed_stiffness=spec.seabed_stiffness,
                             seabed_friction=spec.seabed_friction)
     if spec.relax:
-        lines_obj.relax(tol=1.0)
+        steps = lines_obj.relax(tol=1.0)
+        if not lines_obj.settled:
+            raise ValueError(f"relax = true: its DEM lines did not settle to 1 N within {steps:,} relaxation steps "
+                             f"(the largest net force on a node is still {lines_obj.largest_free_force():.4g} N); "
+                             "set relax = false to start from the catenary unsettled, or use longer elements "
+                             "(element_length)")
     return lines_obj
 
 
@@ -177,7 +182,9 @@ def _mooring_group(job, k: int, poses: np.ndarray) -> MooringGroup:
     atts = [Attachment(j, ib, R.T @ (fl - x)) for j, (_, fl, _) in enumerate(lines)]
     try:
         lines_obj = _lines(spec, lines, segs, w, seabed_z)
-    except ValueError as exc:  # the starting shape's catenary solve
+    except ValueError as exc:  # the starting shape's catenary solve, or the settling of the DEM lines
+        if str(exc).startswith("relax = "):
+            raise JobError(f"{where}.{exc}") from None
         raise JobError(f"{where}: the starting shape of its lines: {exc}; check the segments (ea, wet_weight, "
                        "length), anchor_depth and the pretension") from None
     return MooringGroup(lines_obj, atts)

@@ -52,6 +52,9 @@ class LineSegment:
     added_mass: float = 1.0
 
 
+MAX_RELAX_NODE_STEPS = 1.0e8  # node updates a relaxation may take (~15 s here; settling takes 2e6-1e7)
+
+
 @dataclass
 class MooringLines:
     """All lines of a scene as one node set (kernels work on flat arrays)."""
@@ -73,6 +76,7 @@ class MooringLines:
     added_mass: np.ndarray = field(default=None)
     tangent: np.ndarray = field(default=None)
     time: float = 0.0
+    settled: bool = True     # False when the last relax stopped at its cap before reaching its tol
 
     def __post_init__(self):
         n = len(self.x)
@@ -111,21 +115,31 @@ class MooringLines:
                       fl, x0, x1, v1, dt, nsub)
         self.time += dt * nsub
 
-    def relax(self, *, tol: float = 1.0, max_time: float = 600.0) -> int:
+    def relax(self, *, tol: float = 1.0, max_time: float = 600.0, max_node_steps: float | None = None) -> int:
         """Bring the lines to static equilibrium with their ends held (kinetic damping); the nodes
         start on the continuous catenary, which a chain of straight elements cannot follow exactly
         (its chords are shorter than the arc by ~ L kappa^2 dl^2 / 24). tol: largest net force on a
-        node [N]. Returns the relaxation steps taken."""
+        node [N]; at most max_time [s] of relaxation and max_node_steps node updates (default
+        MAX_RELAX_NODE_STEPS). Returns the relaxation steps taken; ``settled`` says whether the lines
+        reached ``tol``."""
         dt = 0.5 * self.stable_step()
         current = self.current.copy()
         self.current[:] = 0.0
+        budget = MAX_RELAX_NODE_STEPS if max_node_steps is None else max_node_steps
+        cap = max(1, min(int(min(max_time / dt, 1e18)), int(budget / len(self.x))))
         steps = relax_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
                             self.current, self.seabed, self.force, self.tension, self.added_mass, self.tangent,
-                            dt, int(max_time / dt), tol)
+                            dt, cap, tol)
         self.current[:] = current
         self.v[:] = 0.0
         self._forces()
+        self.settled = steps < cap or self.largest_free_force() < tol
         return steps
+
+    def largest_free_force(self) -> float:
+        """The largest net force on a free node [N] (what ``relax`` brings below its tol)."""
+        free = self.kind == FREE
+        return float(np.linalg.norm(self.force[free], axis=1).max()) if free.any() else 0.0
 
     def energies(self) -> tuple[float, float]:
         """(kinetic [J], elastic [J]) of the lines (mooring_line_kernels.line_energies): 1/2 m |v|^2

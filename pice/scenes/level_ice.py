@@ -37,10 +37,32 @@ def layer_count(*, thickness: float, element_diameter: float) -> int:
     return max(1, int(round((thickness - element_diameter) / (element_diameter * LAYER_SPACING))) + 1)
 
 
-def hcp_positions(*, length: float, width: float, d: float, n_layers: int) -> np.ndarray:
-    """Centres of an HCP block [m] with its lower-left sphere at the origin, bottom layer at z = 0."""
+def lattice_rows_columns(*, length: float, width: float, d: float) -> tuple[int, int]:
+    """(rows along y, elements per row along x) of an A layer of HCP in a length x width [m] sheet of
+    elements of diameter d [m] (a B layer may hold a row and a column fewer)."""
     nrows = int(math.floor((width - d) / (d * ROW_SPACING) + 1e-9)) + 1
     ncols = int(math.floor((length - d) / d + 1e-9)) + 1
+    return nrows, ncols
+
+
+def lattice_count(*, length: float, width: float, d: float, n_layers: int) -> int:
+    """Elements of the HCP block ``hcp_positions`` builds, counted without building it (the memory a
+    job needs is known before anything is allocated: pice/memory.py)."""
+    nrows, ncols = lattice_rows_columns(length=length, width=width, d=d)
+    total = 0
+    for layer in range(min(n_layers, 2)):  # layers alternate A, B, A, ...
+        ox = 0.5 * d if layer % 2 else 0.0
+        oy = d * ROW_SPACING / 3.0 if layer % 2 else 0.0
+        rows = min(nrows, max(0, int(math.floor((width - d + 1e-9 - oy) / (d * ROW_SPACING))) + 1))
+        per_row = [min(ncols, max(0, int(math.floor((length - d + 1e-9 - ox - shift) / d)) + 1))
+                   for shift in (0.0, 0.5 * d)]
+        total += (per_row[0] * ((rows + 1) // 2) + per_row[1] * (rows // 2)) * ((n_layers - layer + 1) // 2)
+    return total
+
+
+def hcp_positions(*, length: float, width: float, d: float, n_layers: int) -> np.ndarray:
+    """Centres of an HCP block [m] with its lower-left sphere at the origin, bottom layer at z = 0."""
+    nrows, ncols = lattice_rows_columns(length=length, width=width, d=d)
     pts = []
     for layer in range(n_layers):
         # B layers sit over the centroids of A-layer triangles
