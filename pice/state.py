@@ -66,7 +66,7 @@ class Particles:
     hull_hist: np.ndarray = field(default=None)     # (n,n_bodies,4) the same for each hull
     heave_damping: np.ndarray = field(default=None)  # (n,) linear heave damping [N s/m]
     anchor: np.ndarray = field(default=None)         # (n,3) spring-boundary anchor at t = 0 [m]
-    anchor_k: np.ndarray = field(default=None)       # (n,) spring-boundary stiffness [N/m] (0: free)
+    anchor_k: np.ndarray = field(default=None)       # (n,3) spring-boundary stiffness per direction [N/m] (0: free)
     nlocal: int = 0
 
     @property
@@ -91,7 +91,7 @@ class Particles:
         if self.heave_damping is None:
             self.heave_damping = np.zeros(n)
         self.anchor = self.x.copy()
-        self.anchor_k = np.zeros(n)
+        self.anchor_k = np.zeros((n, 3))
 
     def rows(self, idx: np.ndarray) -> dict[str, np.ndarray]:
         """Copies of every per-particle array at the indices ``idx`` (what migrates with a particle)."""

@@ -182,7 +182,9 @@ def _particles(g: h5py.Group) -> dict:
         if out[name].shape[-1] == 3:
             out[name] = np.concatenate([out[name], np.zeros(out[name].shape[:-1] + (1,))], axis=-1)
     out.setdefault("anchor", out["x"].copy())
-    out.setdefault("anchor_k", np.zeros(n))
+    out.setdefault("anchor_k", np.zeros((n, 3)))
+    if out["anchor_k"].ndim == 1:  # format <= 2: one stiffness for all three directions
+        out["anchor_k"] = np.repeat(out["anchor_k"][:, None], 3, axis=1)
     return out
 
 

@@ -64,6 +64,7 @@ class PushSpec(Section):
     speed: quantity("m/s", gt=None) = 0.05
     rows: count(1) = 1
     stiffness: Optional[quantity("N/m")] = None
+    side_stiffness: Optional[quantity("N/m")] = None  # with stiffness: the side edges held in y by springs
     damping_ratio: quantity("", gt=None, ge=0.0, le=1.0) = 1.0
 
 

@@ -48,6 +48,10 @@ def apply_loads_and_fixes(job, p, *, spacing: float) -> None:
         p.v[sel, 0] = push.speed
         if push.stiffness is not None:  # a spring boundary
             p.anchor_k[sel] = push.stiffness
+            if push.side_stiffness is not None:  # the side edges held in y (the far field beside the sheet)
+                ymin, ymax = p.x[:, 1].min(), p.x[:, 1].max()
+                side = (p.x[:, 1] < ymin + 0.5 * spacing) | (p.x[:, 1] > ymax - 0.5 * spacing)
+                p.anchor_k[side & ~sel, 1] = push.side_stiffness
         else:
             p.fix_mask[sel, 0] = True
             p.fix_velocity[sel, 0] = push.speed

@@ -38,7 +38,7 @@ force = [-3.0e4, 0.0, 0.0]
 def test_spring_boundary_carries_the_load_at_the_drive_speed():
     job = job_from_text(JOB, source="spring.toml")
     sim = Simulation(job)
-    tied = sim.p.anchor_k > 0
+    tied = sim.p.anchor_k[:, 0] > 0
     n_tied = int(tied.sum())
     assert n_tied >= 2 and not sim.p.fix_mask.any()  # springs, not a prescribed velocity
     sim.advance(int(round(1.5 / sim.dt)))  # ~20 time constants of the stiff, critically damped system
@@ -47,3 +47,20 @@ def test_spring_boundary_carries_the_load_at_the_drive_speed():
     np.testing.assert_allclose(sim.p.v[:, 0], 0.5, atol=1e-4)
     lag = sim.p.anchor[tied, 0] + 0.5 * sim.c.time - sim.p.x[tied, 0]
     np.testing.assert_allclose(lag.mean(), 3.0e4 / (n_tied * 2.0e6), rtol=1e-2)
+
+
+def test_side_springs_hold_the_sheet_in_y():
+    """[ice.push] side_stiffness: the outermost elements of the side edges are tied in y only. A
+    lateral load F on the unbreakable sheet is carried, once settled, by the y springs of the rear row
+    (k in every direction) and of the sides (k_side): sum k_y dy = F (statics of the sheet; 1e-3),
+    the sides carrying their share."""
+    text = JOB.replace("damping_ratio = 1.0\n[bond]", "damping_ratio = 1.0\nside_stiffness = 5.0e5\n[bond]")
+    text = text.replace("force = [-3.0e4, 0.0, 0.0]", "force = [0.0, 2.0e4, 0.0]")
+    sim = Simulation(job_from_text(text, source="side.toml"))
+    k = sim.p.anchor_k
+    rear, side = k[:, 0] > 0, (k[:, 1] > 0) & (k[:, 0] == 0)
+    assert side.sum() >= 4 and np.all(k[side, 1] == 5.0e5) and not k[side][:, [0, 2]].any()
+    sim.advance(int(round(1.0 / sim.dt)))
+    dy = sim.p.x[:, 1] - sim.p.anchor[:, 1]
+    np.testing.assert_allclose((k[:, 1] * dy).sum(), 2.0e4, rtol=1e-3)
+    assert (k[side, 1] * dy[side]).sum() > 0.1 * 2.0e4
