@@ -1,8 +1,10 @@
-"""Command line: ``pice run | check | export | plot | study``. Heavy modules are imported inside each subcommand."""
+"""Command line: ``pice run | check | export | plot | study | lab``. Heavy modules are imported inside each
+subcommand."""
 
 from __future__ import annotations
 
 import argparse
+import math
 import pathlib
 import sys
 
@@ -144,6 +146,90 @@ def _cmd_study(args) -> int:
     return 0
 
 
+def _cmd_lab(args) -> int:
+    import os
+
+    from .log import launch_rank
+
+    if launch_rank() != 0:  # the specimens are small: rank 0 runs them alone, without MPI
+        return 0
+    ranks = next((int(os.environ[v]) for v in ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE") if v in os.environ), 1)
+    if ranks > 1:
+        print(f"pice lab: runs on rank 0 only (the specimens are small); the other {ranks - 1} rank(s) idle",
+              file=sys.stderr)
+    from dataclasses import replace
+
+    from .job import load_job
+    from .lab import QUICK_SIZES, LabSizes, run_lab
+    from .lab.report import report_lines, write_json
+
+    job = load_job(args.job)
+    sizes = QUICK_SIZES if args.quick else LabSizes()
+    given = {k: getattr(args, k) for k in ("block_length", "block_width", "beam_span", "beam_width",
+                                           "cantilever_length", "clamp_length") if getattr(args, k) is not None}
+    lab = run_lab(job, element_sizes=args.element_size, sizes=replace(sizes, **given), periods=args.periods,
+                  tests=args.tests, quick=args.quick)
+    print("\n".join(report_lines(lab)))
+    out = args.json or str(pathlib.Path("runs") / (pathlib.Path(args.job).stem + "_lab.json"))
+    print(f"pice: wrote {write_json(lab, out)}")
+    return 0
+
+
+def _lab_size(text: str):
+    from .lab.specimens import parse_size
+
+    try:
+        return parse_size(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _lab_tests(text: str) -> tuple:
+    from .lab import TESTS
+
+    names = tuple(t.strip().replace("-", "_") for t in text.split(",") if t.strip())
+    bad = [t for t in names if t not in TESTS]
+    if bad or not names:
+        raise argparse.ArgumentTypeError(f"{text!r}: a comma-separated list of {', '.join(TESTS)}")
+    return names
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not value > 0 or value == math.inf:
+        raise argparse.ArgumentTypeError(f"{text!r}: must be a positive number")
+    return value
+
+
+def _add_lab_parser(sub) -> None:
+    la = sub.add_parser("lab", help="virtual ice lab: measure E, nu, sigma_c (compression), EI and sigma_f "
+                                    "(three-point beam, cantilever) of the job's ice, beside the intended values")
+    la.add_argument("job")
+    la.add_argument("--element-size", type=_positive, action="append", metavar="D",
+                    help="element size [m] to test (repeat for several; default the job's ice.element_diameter)")
+    la.add_argument("--tests", type=_lab_tests, default=("compression", "three_point", "cantilever"),
+                    metavar="LIST", help="comma-separated: compression, three_point, cantilever (default all)")
+    la.add_argument("--json", metavar="PATH", help="results as JSON (default runs/<job>_lab.json)")
+    la.add_argument("--periods", type=_positive, metavar="N",
+                    help="loading time to the intended strength in fundamental periods of the specimen "
+                         "(default 5, --quick 3): slower is more quasi-static")
+    la.add_argument("--quick", action="store_true", help="smaller specimens and faster loading (seconds; for tests)")
+    sizes = la.add_argument_group("specimen sizes", "a length in metres (15 or 15m), thicknesses (20h) or element "
+                                                    "spacings (12d); widths are rounded to whole rows")
+    for flag, what, default in (("--block-length", "compression block, platen to platen", "10h"),
+                                ("--block-width", "compression block", "5.2h"),
+                                ("--beam-span", "three-point beam, support to support", "20h"),
+                                ("--beam-width", "three-point beam and cantilever", "5.2h"),
+                                ("--cantilever-length", "cantilever, clamp face to tip", "10h"),
+                                ("--clamp-length", "cantilever's clamped root block", "2h")):
+        sizes.add_argument(flag, type=_lab_size, metavar="SIZE", help=f"{what} (default {default}; --quick: "
+                           "block 6h, span 10h, cantilever 6h)")
+    la.set_defaults(func=_cmd_lab)
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="pice", description="DEM of sea ice acting on moored floating structures")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -184,6 +270,7 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument("--settle", type=float, default=0.0, metavar="SECONDS",
                     help="offsets over t >= SECONDS only (default 0)")
     st.set_defaults(func=_cmd_study)
+    _add_lab_parser(sub)
     return ap
 
 
