@@ -1,6 +1,7 @@
 """Restart after a kill (issue 5): a killed run, restarted from its last checkpoint, ends where an
 uninterrupted run ends -- bit for bit on the same rank count, within 1e-9 m on another -- and a
-SIGKILL at any moment leaves the run file and the last checkpoint readable.
+SIGKILL at any moment leaves the run file and the last checkpoint readable. Issue 13 added kills
+while bonds are breaking and while elements are crushing (the restart crosses both).
 
 The job is the contract test's fracturing demo (tests/scenes.py, contract_job) for 2,400 steps
 with a checkpoint every 600 steps. Runs are real `pice run` processes (1 rank, or `mpiexec -n 2`),
@@ -73,11 +74,11 @@ def _wait(proc, condition, what: str, timeout: float = 120.0) -> None:
         time.sleep(0.005)
 
 
-def _final(run: pathlib.Path) -> dict:
+def _final(run: pathlib.Path, steps: int = STEPS) -> dict:
     with h5py.File(run) as f:
         assert f.attrs["status"] == "finished"
         last = f["snapshots"][sorted(f["snapshots"])[-1]]
-        assert last.attrs["step"] == STEPS
+        assert last.attrs["step"] == steps
         events = f["events/broken_bonds"][:]
         return dict(gid=last["gid"][:], x=last["x"][:], v=last["v"][:], w=last["w"][:], events=events,
                     broken={(int(a), int(b)) for a, b in events[:, 2:4]},
@@ -193,24 +194,38 @@ def _check_readable(run: pathlib.Path, ckpt: pathlib.Path) -> tuple[int, int]:
     return int(data["attrs"]["step"]), int(rows)
 
 
-def test_sigkill_at_random_moments_leaves_run_file_and_checkpoint_readable(tmp_path):
-    """Snapshots, series rows and checkpoints written all the time; killed at random moments."""
+def test_sigkill_at_random_steps_leaves_run_file_and_checkpoint_readable(tmp_path):
+    """Snapshots, series rows and checkpoints written all the time; killed at random steps.
+
+    Each run is killed at a step, not at a time: after a randomly chosen checkpoint (step 200 to 700
+    of 1,400; one every 100 steps) and a random number of series rows past it (0 to 9; one every 10
+    steps), both read from the files the run writes: the checkpoint's ``step`` attribute (it is
+    written to a temporary name and renamed, so the final path always holds a whole one) and the
+    run file's last row (read without locking; a row being written counts as not there yet). Why:
+    this test used to kill at a random time (0 to 1.5 s after the first checkpoint), and on a loaded
+    machine it sometimes found the run already finished. Now at least 600 steps (~8 s of this run
+    here) remain after the latest kill point, and the run cannot pass that point unseen: the kill
+    comes within a poll (5 ms) of the step it was chosen for."""
     job = demo_job(tmp_path, "busy", steps=1400, ckpt_every=100, series_every=10, snapshots=40)
     rng = random.Random(5)
     trials = 4
     for pair in range(trials // 2):  # two at a time (this machine has two cores)
         runs = [tmp_path / f"busy{pair}{k}.h5" for k in range(2)]
+        targets = [(100 * rng.randint(2, 7), 10 * rng.randint(0, 9)) for _ in runs]
         procs = [_start(job, run, 1) for run in runs]
-        for run, proc in zip(runs, procs):
-            _wait(proc, lambda: default_path(run).exists(), "the first checkpoint")
-        deadline = [time.monotonic() + rng.uniform(0.0, 1.5) for _ in procs]
-        for d, proc in sorted(zip(deadline, procs), key=lambda t: t[0]):
-            time.sleep(max(0.0, d - time.monotonic()))
-            assert proc.poll() is None, f"the run ended ({proc.returncode}) before it was killed: {proc.stderr.read()}"
-            kill9(proc)
-        for run in runs:
+        waiting = set(range(len(procs)))
+        while waiting:
+            for k in sorted(waiting):
+                ckpt_step, extra = targets[k]
+                proc, run = procs[k], runs[k]
+                assert proc.poll() is None, f"the run ended ({proc.returncode}) before it was killed: {proc.stderr.read()}"
+                if _ckpt_step(default_path(run)) >= ckpt_step and _last_row_step(run) >= ckpt_step + extra:
+                    kill9(proc)
+                    waiting.discard(k)
+            time.sleep(0.005)
+        for run, (ckpt_step, _) in zip(runs, targets):
             step, rows = _check_readable(run, default_path(run))
-            assert step >= 100 and rows > 0
+            assert ckpt_step <= step < 1400 and rows > 0
     # the last one continues to the end from its checkpoint, without rows recorded twice
     last = runs[-1]
     quiet = demo_job(tmp_path, "quiet", steps=1400, ckpt_every=0, series_every=10, snapshots=40)
@@ -241,3 +256,109 @@ def test_sigint_writes_a_final_checkpoint_and_exits_130(killed1, tmp_path):
     # on one rank the interrupted run continues exactly as if never stopped
     _run(job, run, 1, "--restart", ckpt)
     _assert_bitwise(_final(run), _final(killed1.reference))
+
+
+# -- restarts through fracture and crushing (issue 13, case 7) -------------------------------------
+
+# 10 m x 6 m of 1 m plate cells driven at 4 m/s onto a vertical face that crushes ice at 1 MPa: the
+# contacts at the face are in plastic flow from step ~200, the front elements are crushed through
+# (removed, their bonds logged as mode 4) at steps 1700 and 2485 of 2500 (~3 s on one rank here).
+CRUSHING_JOB = """\
+[run]
+duration = 0.4
+dt = 1.6e-4
+series_every = 25
+snapshots = 2
+checkpoint_every = 0.016
+[water]
+density = 1025.0
+[ice]
+length = 10.0
+width = 6.0
+element_diameter = 1.0
+element_volume = "cell"
+origin = [-10.05, -3.0]
+velocity = [4.0, 0.0]
+youngs_modulus = 1.0e9
+flexural_strength = 0.5e6
+compressive_strength = 2.5e6
+push = {speed = 4.0, rows = 2, stiffness = 2.0e7}
+[bond]
+damping_ratio = 0.1
+[crushing]
+structure = 1.0e6
+[[walls]]
+type = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [-1.0, 0.0, 0.0]
+friction = 0.15
+crushing_width = 6.0
+"""
+
+
+def _kill_at_checkpoint(job: pathlib.Path, run: pathlib.Path, wanted: set[int]) -> int:
+    """Start `pice run JOB -o RUN` on one rank and SIGKILL it as soon as its latest checkpoint is one
+    of the ``wanted`` steps (read from the checkpoint's step attribute every 5 ms: it is renamed into
+    place whole). The wanted steps are consecutive checkpoints, so the kill has hundreds of steps to
+    land in; returns the step of the checkpoint the killed run leaves."""
+    proc = _start(job, run, 1)
+    _wait(proc, lambda: _ckpt_step(default_path(run)) in wanted, f"a checkpoint at one of the steps {sorted(wanted)}")
+    kill9(proc)
+    step = _ckpt_step(default_path(run))
+    assert step in wanted, (step, sorted(wanted))
+    return step
+
+
+@pytest.mark.slow  # three runs of the demo (~1 min here)
+def test_restart_through_fracture_is_bitwise(tmp_path):
+    """The fracturing demo (600 steps, a checkpoint every 25; 31 bonds break between steps 207 and
+    381) is killed at a checkpoint taken while bonds are breaking: some broken before it, more
+    breaking after it. Restarted from it on the same rank count, it ends bit for bit as the run that
+    was never killed: positions, velocities, spins, every series row once, the same broken set and
+    the same break log in the same order."""
+    steps, every = 600, 25
+    job = demo_job(tmp_path, "fracture", steps=steps, ckpt_every=every, series_every=25, snapshots=3)
+    reference = tmp_path / "reference.h5"
+    _run(job, reference, 1)
+    with h5py.File(reference) as f:
+        breaks = f["events/broken_bonds"][:, 0]
+    during = {c for c in range(every, steps, every) if (breaks <= c).any() and (breaks > c).any()}
+    assert len(during) >= 4, f"the demo must break over several checkpoints: breaks at steps {sorted(set(breaks))}"
+    run = tmp_path / "killed.h5"
+    step = _kill_at_checkpoint(job, run, during)
+    broken = int(read_checkpoint(default_path(run))["counters"]["broken"].sum())
+    assert broken == (breaks <= step).sum() and 0 < broken < len(breaks)
+    _run(job, run, 1, "--restart", default_path(run))
+    _assert_bitwise(_final(run, steps), _final(reference, steps))
+
+
+@pytest.mark.slow  # three runs of the crushing scene (~1 min here)
+def test_restart_through_crushing_is_bitwise(tmp_path):
+    """The crushing scene above is killed at a checkpoint taken while its front is crushing (contacts
+    in plastic flow, their plastic penetration in the checkpoint), after the first elements were
+    crushed through and before the next. Restarted on the same rank count, it ends bit for bit as
+    the run never killed: the same elements left (gids), positions, velocities, spins, series rows
+    (crushed elements and plastic contacts included) and broken set, crushed bonds (mode 4) too."""
+    job = tmp_path / "crushing.toml"
+    job.write_text(CRUSHING_JOB)
+    steps, every = 2500, 100
+    reference = tmp_path / "reference.h5"
+    _run(job, reference, 1)
+    with h5py.File(reference) as f:
+        events = f["events/broken_bonds"][()]
+        row = {int(k): r for k, r in zip(f["series/step"][()], f["series/crushing_contacts"][()])}
+        crushed = f["series/crushed_elements"][()]
+    crushed_at = events[events[:, 4] == 4, 0]
+    during = {c for c in range(every, steps, every)
+              if row[c][1] > 0 and (crushed_at <= c).any() and (crushed_at > c).any()}
+    assert len(during) >= 4 and crushed[-1] > 0, f"crushed through at steps {sorted(set(crushed_at))}"
+    run = tmp_path / "killed.h5"
+    step = _kill_at_checkpoint(job, run, during)
+    _run(job, run, 1, "--restart", default_path(run))
+    a, b = _final(run, steps), _final(reference, steps)
+    assert len(a["gid"]) < 60  # elements were removed (57 at the start)
+    _assert_bitwise(a, b)
+    with h5py.File(run) as f, h5py.File(reference) as g:
+        for key in ("crushed_elements", "crushing_contacts"):
+            assert np.array_equal(f["series"][key][()], g["series"][key][()]), key
+    assert step in during
