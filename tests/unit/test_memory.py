@@ -31,7 +31,7 @@ def test_estimate_is_what_set_up_allocates(text):
 
 
 def test_refusal_names_the_need_and_what_is_available(monkeypatch):
-    """A sheet of 23 elements (37 KiB) against 27 KiB available: one JobError line naming ice.length,
+    """A sheet of 23 elements (~37 KiB) against 3/4 of that available: one JobError line naming ice.length,
     the elements, the need per rank and the fix; with 2 ranks on the machine and 60 KB available,
     each rank fits but both do not: the line names the ranks' share. Enough memory: no error."""
     job = job_from_text(sub("length = 4.0", "length = 8.0", BASE))
@@ -40,8 +40,9 @@ def test_refusal_names_the_need_and_what_is_available(monkeypatch):
     with pytest.raises(JobError) as err:
         memory.refuse_oversized(job, SerialComm())
     line = str(err.value)
-    assert line.startswith("job.toml: ice.length = 8: the sheet of 23 elements needs 36.6 KiB ") and "\n" not in line
-    assert "on each rank at set-up" in line and "more than the 27.4 KiB available on this machine" in line
+    assert n == 23 and "\n" not in line
+    assert line.startswith(f"job.toml: ice.length = 8: the sheet of 23 elements needs {memory._size(need)} ")
+    assert "on each rank at set-up" in line and f"more than the {memory._size(0.75 * need)} available" in line
     assert "shorten the sheet" in line and "ranks on this machine" not in line
     monkeypatch.setenv("MPI_LOCALNRANKS", "2")
     monkeypatch.setattr(memory, "available_bytes", lambda: 1.5 * need)
