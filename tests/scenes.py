@@ -145,3 +145,41 @@ def contract_job(folder: pathlib.Path, name: str = "contract", *, dt: float = 1.
     job = folder / f"{name}.toml"
     job.write_text(text)
     return job
+
+
+def crushing_face_job(*, length: float, width: float, d: float, speed: float, stiffness: float, run: str,
+                      structure: str = '"iso19906"', h: float = 1.0, parallel: str = "") -> str:
+    """A sheet of plate cells (1 GPa, sigma_f 0.5 MPa, sigma_c 2.5 MPa) `length` x `width` [m] of
+    elements `d` [m], its rear two rows on far-field springs (`stiffness` [N/m per element]) drifting
+    at `speed` [m/s], 0.05 m from a vertical plane at x = 0 as wide as the sheet, with [crushing]
+    (`structure`: "iso19906" or a pressure [Pa]). `run` is the [run] table's body."""
+    return f"""\
+[run]
+{run}
+[water]
+density = 1025.0
+[ice]
+length = {length!r}
+width = {width!r}
+thickness = {h!r}
+element_diameter = {d!r}
+element_volume = "cell"
+origin = [{-length - 0.05!r}, {-width / 2!r}]
+velocity = [{speed!r}, 0.0]
+youngs_modulus = 1.0e9
+flexural_strength = 0.5e6
+compressive_strength = 2.5e6
+push = {{speed = {speed!r}, rows = 2, stiffness = {stiffness!r}}}
+[bond]
+damping_ratio = 0.1
+[contact]
+friction = 0.15
+[crushing]
+structure = {structure}
+[[walls]]
+type = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [-1.0, 0.0, 0.0]
+friction = 0.15
+crushing_width = {width!r}
+{parallel}"""

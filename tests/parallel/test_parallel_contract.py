@@ -16,7 +16,7 @@ import pathlib
 import h5py
 import numpy as np
 from launch import pice_run, run_cmd
-from scenes import barge_job, contract_job
+from scenes import barge_job, contract_job, crushing_face_job
 
 
 def _final(out: pathlib.Path):
@@ -76,41 +76,9 @@ def test_platform_on_one_and_two_ranks_agrees(tmp_path):
         assert np.abs(one[key] - two[key]).max() <= 1e-8 * np.abs(one[key]).max()
 
 
-CRUSHING_JOB = """\
-[run]
-duration = 6.0
-series_every = 200
-snapshots = 2
-check_every = 10
-[water]
-density = 1025.0
-[ice]
-length = 30.0
-width = 50.0
-thickness = 1.0
-element_diameter = 2.0
-element_volume = "cell"
-origin = [-30.05, -25.0]
-velocity = [0.5, 0.0]
-youngs_modulus = 1.0e9
-flexural_strength = 0.5e6
-compressive_strength = 2.5e6
-push = {speed = 0.5, rows = 2, stiffness = 4.0e7}
-[bond]
-damping_ratio = 0.1
-[contact]
-friction = 0.15
-[crushing]
-structure = "iso19906"
-[[walls]]
-type = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [-1.0, 0.0, 0.0]
-friction = 0.15
-crushing_width = 50.0
-[parallel]
-balance_every = 0
-"""
+CRUSHING_JOB = crushing_face_job(length=30.0, width=50.0, d=2.0, speed=0.5, stiffness=4.0e7,
+                                 run="duration = 6.0\nseries_every = 200\nsnapshots = 2\ncheck_every = 10",
+                                 parallel="[parallel]\nbalance_every = 0\n")
 
 
 def test_crushed_elements_are_the_same_on_one_and_two_ranks(tmp_path):

@@ -21,7 +21,7 @@ import h5py
 import numpy as np
 import pytest
 from launch import kill9, pice_run, run_cmd, start
-from scenes import contract_job
+from scenes import contract_job, crushing_face_job
 
 from pice.io.checkpoint import default_path, read_checkpoint
 
@@ -261,39 +261,11 @@ def test_sigint_writes_a_final_checkpoint_and_exits_130(killed1, tmp_path):
 # -- restarts through fracture and crushing (issue 13, case 7) -------------------------------------
 
 # 10 m x 6 m of 1 m plate cells driven at 4 m/s onto a vertical face that crushes ice at 1 MPa: the
-# contacts at the face are in plastic flow from step ~200, the front elements are crushed through
-# (removed, their bonds logged as mode 4) at steps 1700 and 2485 of 2500 (~3 s on one rank here).
-CRUSHING_JOB = """\
-[run]
-duration = 0.4
-dt = 1.6e-4
-series_every = 25
-snapshots = 2
-checkpoint_every = 0.016
-[water]
-density = 1025.0
-[ice]
-length = 10.0
-width = 6.0
-element_diameter = 1.0
-element_volume = "cell"
-origin = [-10.05, -3.0]
-velocity = [4.0, 0.0]
-youngs_modulus = 1.0e9
-flexural_strength = 0.5e6
-compressive_strength = 2.5e6
-push = {speed = 4.0, rows = 2, stiffness = 2.0e7}
-[bond]
-damping_ratio = 0.1
-[crushing]
-structure = 1.0e6
-[[walls]]
-type = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [-1.0, 0.0, 0.0]
-friction = 0.15
-crushing_width = 6.0
-"""
+# contacts at the face are in plastic flow from step ~200, and front elements are crushed through
+# (removed, their bonds logged as mode 4) during its 2,500 steps (~3 s on one rank here).
+CRUSHING_JOB = crushing_face_job(
+    length=10.0, width=6.0, d=1.0, speed=4.0, stiffness=2.0e7, structure="1.0e6",
+    run="duration = 0.4\ndt = 1.6e-4\nseries_every = 25\nsnapshots = 2\ncheckpoint_every = 0.016")
 
 
 def _kill_at_checkpoint(job: pathlib.Path, run: pathlib.Path, wanted: set[int]) -> int:

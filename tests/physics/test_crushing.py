@@ -11,6 +11,8 @@ import math
 import numpy as np
 import pytest
 
+from scenes import crushing_face_job, job_from_text
+
 from pice.job import parse_job
 from pice.kernels.contact_law import plastic_normal_force
 from pice.physics.iso19906 import crushing_load, crushing_pressure
@@ -109,19 +111,8 @@ def _face_run(*, d, h=1.0, duration=4.0, speed=0.5, length=30.0, width=50.0):
     """A sheet `width` wide, driven at the far field (rear rows on springs to anchors at `speed`)
     against a rigid vertical plane as wide as the sheet, with ISO 19906 crushing for that width.
     Returns (time [s], load on the face along x [N], crushed elements) every 0.05 s, and p_G h w [N]."""
-    job = parse_job({
-        "run": {"duration": duration, "check_every": 10},
-        "water": {"density": 1025.0},
-        "ice": {"length": length, "width": width, "thickness": h, "element_diameter": d, "element_volume": "cell",
-                "origin": [-length - 0.05, -width / 2], "velocity": [speed, 0.0], "youngs_modulus": 1e9,
-                "poissons_ratio": 0.3, "flexural_strength": 0.5e6, "compressive_strength": 2.5e6,
-                "push": {"speed": speed, "rows": 2, "stiffness": 2e7 * d, "damping_ratio": 1.0}},
-        "bond": {"damping_ratio": 0.1},
-        "contact": {"friction": 0.15, "restitution": 0.3},
-        "crushing": {"structure": "iso19906"},
-        "walls": [{"type": "plane", "point": [0.0, 0.0, 0.0], "normal": [-1.0, 0.0, 0.0], "friction": 0.15,
-                   "crushing_width": width}],
-    })
+    job = job_from_text(crushing_face_job(length=length, width=width, d=d, h=h, speed=speed, stiffness=2e7 * d,
+                                          run=f"duration = {duration!r}\ncheck_every = 10"), source="face.toml")
     sim = Simulation(job)
     every = max(1, int(0.05 / sim.dt))
     rows = []
