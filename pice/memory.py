@@ -75,7 +75,7 @@ def available_bytes() -> float | None:
             if line.startswith("MemAvailable:"):
                 found.append(float(line.split()[1]) * 1024.0)
     except (OSError, ValueError, IndexError):
-        pass
+        found.clear()  # no readable /proc/meminfo: the cgroup limit alone, if any
     try:  # cgroup v2: this process's group, its limit and what it uses
         rel = next(line[3:] for line in pathlib.Path("/proc/self/cgroup").read_text().splitlines()
                    if line.startswith("0::"))
@@ -84,7 +84,7 @@ def available_bytes() -> float | None:
         if limit != "max":
             found.append(float(limit) - float((group / "memory.current").read_text()))
     except (OSError, ValueError, StopIteration):
-        pass
+        return min(found) if found else None  # no cgroup v2 limit readable: /proc/meminfo alone
     return min(found) if found else None
 
 

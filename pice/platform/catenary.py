@@ -197,7 +197,7 @@ def _bracket(f, lo: float, hi: float, grow):
                 return lo, hi
             hi = grow(hi, 1)
     except (OverflowError, ZeroDivisionError, ValueError):
-        pass
+        return None  # the residual overflows before changing sign: no bracket, the caller falls back
     return None
 
 
