@@ -56,6 +56,7 @@ class BodySpec(Section):
     velocity: tuple[Row7, ...] = ()                              # prescribed: rows (t, vx, vy, vz, wx, wy, wz)
     friction: quantity("", gt=None, ge=0.0) = 0.15               # ice-hull Coulomb friction
     normal_stiffness: Optional[quantity("N/m")] = None           # ice-hull contact spring (default: contact's)
+    crushing_width: Optional[quantity("m")] = None               # w of ISO 19906 crushing (default: hull's y-extent)
 
     @model_validator(mode="after")
     def _motion(self):

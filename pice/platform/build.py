@@ -61,9 +61,11 @@ def hulls_from_job(job, *, default_kn: float, reach: float, base_dir=None) -> li
     for k, body in enumerate(job.bodies):
         v, t = hull_mesh(job, k, base_dir)
         kn = body.normal_stiffness if body.normal_stiffness is not None else default_kn
-        # crushing: the hull's width across the drift (its extent in y, body frame) for ISO 19906
+        # crushing: the width w of ISO 19906's p_G, as given, else the hull's extent across the drift
+        # (in y, body frame); a multi-leg hull may rather give one leg's width (docs/crushing.md)
+        width = body.crushing_width if body.crushing_width is not None else float(np.ptp(v[:, 1]))
         law = contact_law(job, kn=kn, friction=body.friction,
-                          crushing_pressure=structure_crushing_pressure(job, width=float(np.ptp(v[:, 1]))))
+                          crushing_pressure=structure_crushing_pressure(job, width=width))
         out.append(Hull(body.name, v, t, build_triangle_grid(v, t, reach=reach), law))
     return out
 

@@ -87,3 +87,22 @@ def test_hull_velocity_counts_in_the_damping_and_friction():
     force, _, _, _ = _call(x, v, spin, verts, tris, grid, hist=np.zeros((1, 4)))
     assert force[0, 0] < 0.0  # surface moves along -x at (0, 2): omega x r = (0,0,0.1) x (0,2,2) -> -0.2 x
     assert params.mu * force[0, 2] >= abs(force[0, 0])
+
+
+def test_hull_crushing_width_sets_the_iso_pressure():
+    """ISO 19906 A.8.2.4.3 (seed 000, Eq. 15): p_G depends on the structure's width w. A hull takes
+    its extent across the drift (y, body frame: the barge's 16 m) unless bodies[].crushing_width
+    names another (one leg of a multi-leg hull); exact, as the pressure is the formula's value."""
+    from scenes import barge_job, job_from_text
+
+    from pice.physics.iso19906 import crushing_pressure
+    from pice.platform.build import hulls_from_job
+
+    def pressure(body_extra):
+        job = job_from_text(barge_job(body_extra=body_extra) + "\n[crushing]\nstructure = \"iso19906\"\n")
+        (hull,) = hulls_from_job(job, default_kn=1.0e8, reach=0.5)
+        return hull.law.crushing_pressure
+
+    assert pressure("") == pytest.approx(crushing_pressure(thickness=1.0, width=16.0), rel=1e-12)
+    assert pressure("crushing_width = 4.0") == pytest.approx(crushing_pressure(thickness=1.0, width=4.0), rel=1e-12)
+    assert pressure("crushing_width = 4.0") > pressure("")          # the size effect: narrower, higher
