@@ -46,6 +46,10 @@ def series_row(sim) -> dict[str, np.ndarray | float]:
     c = sim.c
     counts = sim.comm.sum(np.array([sim.p.bond_count(), c.broken, c.contacts], dtype=np.float64))
     row = dict(time=c.time, step=float(c.step), bonds=counts[0], broken_bonds=counts[1], contacts=counts[2])
+    # the logged breaks so far by failure mode (kernels.bonds: 1 tension/bending, 2 shear/twist,
+    # 3 compression, 4 crushed through)
+    modes = np.bincount(np.fromiter((e[4] for e in c.events), np.int64, len(c.events)), minlength=5)[1:5]
+    row["broken_by_mode"] = sim.comm.sum(modes.astype(np.float64))
     row.update(energies(sim))
     loads = sim.wall_loads()
     if loads is not None:

@@ -16,6 +16,7 @@ import logging
 import numpy as np
 
 from ..parallel.comm import on_root
+from ..physics.crushing import crush_depth
 from ..platform.output import describe as describe_platform
 from .mpio import MODE_ENV, choose_mode, h5py_has_mpi
 from .run_file import RunFile
@@ -105,7 +106,8 @@ class RunOutput:
         p = self.sim.p
         n = p.nlocal
         part = dict(gid=p.gid[:n].copy(), x=p.x[:n].copy(), v=p.v[:n].copy(), w=p.w[:n].copy(),
-                    radius=p.radius[:n].copy(), kind=p.kind[:n].copy(), bonds=p.intact_bonds())
+                    radius=p.radius[:n].copy(), kind=p.kind[:n].copy(), crush_depth=crush_depth(p),
+                    bonds=p.intact_bonds())
         extras = self.sim.platform_snapshot(first=index == 0)  # rank 0's bodies and lines (None elsewhere)
         if self.mode == "mpio":  # collective: each rank writes its part at its gid-sorted place
             self.file.write_snapshot_arrays(index, time=self.sim.c.time, step=self.sim.c.step, arrays=part,

@@ -4,12 +4,14 @@ Layout::
 
     /                 attrs: job_text, job_source, pice_version, ranks, units, started, status
     /series/<name>    one row per recorded step (resizable, flushed as written)
-    /snapshots/NNNNN  attrs time, step; datasets gid, x, v, w, radius, kind, bonds (m,2 gids)
+    /snapshots/NNNNN  attrs time, step; datasets gid, x, v, w, radius, kind, crush_depth (the largest
+                      plastic penetration of the element's contacts, m), bonds (m,2 gids)
                       [+ point_index, bond_index when the gids are not 0..n-1: xdmf.point_index_arrays]
                       [+ body_pose (n_bodies,13: x, q, v, omega), mooring_x (k,3), mooring_line (k,)
                        when the job has [[bodies]] / [[moorings]]; snapshot 0 also holds each hull
                        in its body frame: hull<k>_vertices, hull<k>_triangles]
-    /events/broken_bonds  (k,5) float64 rows: step, time, gid_a, gid_b, mode (1 tension/bending, 2 shear)
+    /events/broken_bonds  (k,5) float64 rows: step, time, gid_a, gid_b, mode (1 tension/bending,
+                          2 shear/twist, 3 compression, 4 crushed through: kernels.bonds)
 
 Rows are flushed as they are written, so a run that stops keeps everything recorded until then.
 During a run io/output.py drives this writer; io/run_reader.py reads the file back.
@@ -377,7 +379,7 @@ class RunFile:
             raise OutputError(self.failed)
 
 
-_PARTICLE_FIELDS = ("gid", "x", "v", "w", "radius", "kind")
+_PARTICLE_FIELDS = ("gid", "x", "v", "w", "radius", "kind", "crush_depth")
 
 
 def _write_extras(g: h5py.Group, extras: dict | None, mine: bool) -> None:

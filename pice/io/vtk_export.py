@@ -43,6 +43,7 @@ def ice_block(run: Run, key: str):
              meshio.CellBlock("line", bond_point_indices(gid, g["bonds"][()]))]
     point_data = {"radius": g["radius"][()], "velocity": g["v"][()], "angular_velocity": g["w"][()],
                   "kind": g["kind"][()].astype(np.int32), "gid": gid,
+                  **({"crush_depth": g["crush_depth"][()]} if "crush_depth" in g else {}),
                   "damage": bond_damage(gid, g["bonds"][()], *run.initial_bond_counts())}
     return meshio.Mesh(g["x"][()], cells, point_data=point_data)
 

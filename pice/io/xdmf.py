@@ -30,7 +30,8 @@ from .run_reader import open_run
 
 # (dataset, attribute name, XDMF AttributeType) on the particles
 _ATTRIBUTES = (("radius", "radius", "Scalar"), ("v", "velocity", "Vector"),
-               ("w", "angular_velocity", "Vector"), ("kind", "kind", "Scalar"), ("gid", "gid", "Scalar"))
+               ("w", "angular_velocity", "Vector"), ("kind", "kind", "Scalar"), ("gid", "gid", "Scalar"),
+               ("crush_depth", "crush_depth", "Scalar"))
 
 
 
@@ -96,6 +97,8 @@ def _grid(collection, name: str, g: h5py.Group, h5name: str, topology: str, conn
     _data_item(geom, h5name, g["x"])
     if attributes:
         for ds, label, kind in _ATTRIBUTES:
+            if ds not in g:  # a field the run file predates (crush_depth)
+                continue
             attr = ET.SubElement(grid, "Attribute", Name=label, AttributeType=kind, Center="Node")
             _data_item(attr, h5name, g[ds])
 

@@ -17,18 +17,30 @@ import numpy as np
 from ..kernels.bonds import CRUSHED
 
 
-def crushed_through(p) -> np.ndarray:
-    """Indices of the owned elements whose plastic penetration into a wall or a hull reaches their diameter.
-
-    (With one diameter, and not one radius, the staggered rows of a close-packed front overlap in
-    contact with a plane face: each row's element is still crushing when the next row's arrives.)"""
+def structure_crush_depth(p) -> np.ndarray:
+    """(nlocal,) the largest plastic penetration [m] of each owned element into a wall or a hull."""
     n = p.nlocal
     depth = np.zeros(n)
     if p.wall_hist.shape[1]:
         depth = np.maximum(depth, p.wall_hist[:n, :, 3].max(axis=1))
     if p.hull_hist.shape[1]:
         depth = np.maximum(depth, p.hull_hist[:n, :, 3].max(axis=1))
-    return np.nonzero(depth >= 2.0 * p.radius[:n])[0]
+    return depth
+
+
+def crush_depth(p) -> np.ndarray:
+    """(nlocal,) the largest plastic penetration [m] of each owned element in any of its contacts:
+    walls, hulls and other ice (the snapshots' ``crush_depth``; 0 for an element that never crushed)."""
+    n = p.nlocal
+    return np.maximum(structure_crush_depth(p), p.contact_hist[:n, :, 3].max(axis=1, initial=0.0))
+
+
+def crushed_through(p) -> np.ndarray:
+    """Indices of the owned elements whose plastic penetration into a wall or a hull reaches their diameter.
+
+    (With one diameter, and not one radius, the staggered rows of a close-packed front overlap in
+    contact with a plane face: each row's element is still crushing when the next row's arrives.)"""
+    return np.nonzero(structure_crush_depth(p) >= 2.0 * p.radius[:p.nlocal])[0]
 
 
 def remove_elements(p, gone: np.ndarray, *, step: int, time: float) -> list[tuple]:

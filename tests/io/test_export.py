@@ -91,7 +91,7 @@ def test_xdmf_beside_the_run_opens_with_meshio_and_vtk(run):
             assert [c.type for c in cells] == ["vertex"] and len(cells[0].data) == n
             t, pd, _ = r.read_data(k)
             assert t == pytest.approx(s["time"])
-            assert set(pd) == {"radius", "velocity", "angular_velocity", "kind", "gid"}
+            assert set(pd) == {"radius", "velocity", "angular_velocity", "kind", "gid", "crush_depth"}
             assert pd["velocity"].shape == (n, 3) and np.array_equal(pd["velocity"], s["v"])
             assert np.array_equal(pd["gid"], s["gid"])
 
@@ -132,7 +132,7 @@ def test_xdmf_with_gids_that_are_not_indices(tmp_path):
     gid = np.array([30, 10, 20])
     x = np.arange(9.0).reshape(3, 3)
     rf.write_snapshot_arrays(0, time=0.5, step=1, arrays=dict(
-        gid=gid, x=x, v=x, w=x, radius=np.ones(3), kind=np.zeros(3, np.int8), bonds=np.array([[20, 30], [10, 20]])))
+        gid=gid, x=x, v=x, w=x, radius=np.ones(3), kind=np.zeros(3, np.int8), crush_depth=np.zeros(3), bonds=np.array([[20, 30], [10, 20]])))
     rf.close()
     with h5py.File(tmp_path / "g.h5") as f:
         assert np.array_equal(f["snapshots/00000/bond_index"][()], [[0, 1], [1, 2]])

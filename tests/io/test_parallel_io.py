@@ -104,6 +104,7 @@ def _synthetic(rank: int, size: int, *, n: int, dense: bool, empty_rank: bool, r
     x, v, w = (rng.standard_normal((n, 3)) for _ in range(3))
     radius = rng.uniform(0.4, 0.6, n)
     kind = rng.integers(0, 3, n).astype(np.int8)
+    depth = rng.uniform(0.0, 0.3, n)
     i = rng.integers(0, n, 4 * n)
     j = rng.integers(0, n, 4 * n)
     keep = gids[i] < gids[j]
@@ -112,12 +113,12 @@ def _synthetic(rank: int, size: int, *, n: int, dense: bool, empty_rank: bool, r
     owner_of = dict(zip(gids.tolist(), owner.tolist()))
     bond_owner = np.array([owner_of[a] for a in pairs[:, 0]])
     perm = rng.permutation(n)   # the ranks hold their particles in no particular order
-    gids, owner, x, v, w, radius, kind = (a[perm] for a in (gids, owner, x, v, w, radius, kind))
+    gids, owner, x, v, w, radius, kind, depth = (a[perm] for a in (gids, owner, x, v, w, radius, kind, depth))
     parts = []
     for r in range(size):
         mine = owner == r
         parts.append(dict(gid=gids[mine], x=x[mine], v=v[mine], w=w[mine], radius=radius[mine], kind=kind[mine],
-                          bonds=pairs[bond_owner == r]))
+                          crush_depth=depth[mine], bonds=pairs[bond_owner == r]))
     events = [[(10 * r + k, 0.5 * k, float(k), float(k + r + 1), 1.0) for k in range(r + 2)] for r in range(size)]
     return parts[rank], parts, events
 

@@ -14,7 +14,9 @@ import pytest
 from scenes import crushing_face_job, job_from_text
 
 from pice.job import parse_job
+from pice.kernels.bonds import CRUSHED
 from pice.kernels.contact_law import plastic_normal_force
+from pice.physics.crushing import crush_depth
 from pice.physics.iso19906 import crushing_load, crushing_pressure
 from pice.simulation import Simulation
 
@@ -110,7 +112,8 @@ def test_iso_pressure_is_eq15_over_the_contact_face():
 def _face_run(*, d, h=1.0, duration=4.0, speed=0.5, length=30.0, width=50.0):
     """A sheet `width` wide, driven at the far field (rear rows on springs to anchors at `speed`)
     against a rigid vertical plane as wide as the sheet, with ISO 19906 crushing for that width.
-    Returns (time [s], load on the face along x [N], crushed elements) every 0.05 s, and p_G h w [N]."""
+    Returns (time [s], load on the face along x [N], crushed elements) every 0.05 s, and p_G h w [N];
+    the simulation itself is ``_face_run.last``."""
     job = job_from_text(crushing_face_job(length=length, width=width, d=d, h=h, speed=speed, stiffness=2e7 * d,
                                           run=f"duration = {duration!r}\ncheck_every = 10"), source="face.toml")
     sim = Simulation(job)
@@ -120,6 +123,7 @@ def _face_run(*, d, h=1.0, duration=4.0, speed=0.5, length=30.0, width=50.0):
         sim.advance(every)
         r = sim.series_row()
         rows.append((sim.c.time, r["wall_force"][0][0], r["crushed_elements"]))
+    _face_run.last = sim
     return np.array(rows), crushing_load(thickness=h, diameter=width)
 
 
@@ -137,6 +141,14 @@ def test_vertical_face_mean_load_is_iso19906_with_2m_elements():
     load = _crushing_phase(rows)
     assert load.mean() == pytest.approx(iso, rel=0.25)
     assert rows[-1, 2] > 0 and np.all(np.diff(rows[:, 2]) >= 0)
+    # the counts by mode: every logged break is in broken_by_mode, the crushed elements' bonds as mode 4
+    sim = _face_run.last
+    row = sim.series_row()
+    assert row["broken_by_mode"].sum() == row["broken_bonds"] == len(sim.c.events)
+    assert row["broken_by_mode"][CRUSHED - 1] >= row["crushed_elements"]   # each had >= 1 bond
+    # the snapshots' crush_depth: elements at the face in plastic flow, none yet through a diameter
+    depth = crush_depth(sim.p)
+    assert depth.max() > 0.0 and depth.max() < 2.0 * float(sim.p.radius[0])
 
 
 @pytest.mark.slow
