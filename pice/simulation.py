@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from time import perf_counter
 
 import numpy as np
 
@@ -37,6 +36,7 @@ from .physics.timestep import choose_step, stable_step
 from .physics.walls import WallTerm
 from .scenes.level_ice import build_level_ice
 from .scenes.loads import apply_loads_and_fixes
+from .timers import StepTimers, term_part
 
 RUNAWAY_STEP_FRACTION = 0.05  # an element moving more than 5 % of its radius in one step has run away
 
@@ -82,7 +82,7 @@ class Simulation:
         self.wall_total = None   # rank 0: the reduced load on each [[walls]] entry
         self.body_total = None   # rank 0: the reduced ice load on each body
         self.c = Counters()
-        self.wall_clock = {"exchange": 0.0, "forces": 0.0}  # seconds spent per phase (for mpi/scaling.py)
+        self.timers = None  # pice/timers.py StepTimers once enable_timers() has switched to the timed step
         self.domain = Domain(self.comm, job.parallel, ghost_width=ghost_width(p, self.bond, job.parallel.skin))
         if not restart:
             self.domain.distribute(p)
@@ -177,22 +177,32 @@ class Simulation:
         if self.coupling is not None:
             self._reduce_loads()
 
-    def _reduce_loads(self) -> None:
-        """The ice loads on walls and hulls to rank 0 (one reduction); rank 0 hands the bodies theirs."""
+    def _reduce_loads(self, lap=None) -> None:
+        """The ice loads on walls and hulls to rank 0 (one reduction); rank 0 hands the bodies theirs.
+
+        ``lap``: the timed step's StepTimers.lap (None in the plain step: no clock is read)."""
         nw = len(self.job.walls)
         local = np.zeros((nw + len(self.hulls), 6))
         if self.walls is not None:
             local[:nw] = self.walls.local_loads()
         if self.hull_term is not None:
             local[nw:] = self.hull_term.loads
+        if lap is not None:
+            lap("other")
         total = self.coupling.reduce_loads(local)  # on rank 0, None elsewhere
+        if lap is not None:
+            lap("waiting")
         if total is not None:
             self.wall_total, self.body_total = total[:nw], total[nw:]
         if self.platform is not None:
             self.platform.loads(self.body_total)
             self.peaks.track(self.body_total[:, :3], self.platform.fairlead_tensions())
+            if lap is not None:
+                lap("platform")
 
     def step(self) -> None:
+        """One step of dt (the module docstring). ``_timed_step`` is its twin with timers: a change
+        here is made there too (tests/unit/test_bench.py checks that both give the same bits)."""
         p, dt, c = self.p, self.dt, self.c
         half = 0.5 * dt
         platform = self.platform
@@ -203,17 +213,64 @@ class Simulation:
             platform.drift(dt)
         c.step += 1
         c.time = c.step * dt
-        t0 = perf_counter()
         if self.hulls:
             self.broadcast_poses()
         self.domain.exchange(p, c.step)
-        t1 = perf_counter()
         self.compute_forces()
-        self.wall_clock["exchange"] += t1 - t0
-        self.wall_clock["forces"] += perf_counter() - t1
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
         if platform is not None:
             platform.kick(half)
+
+    # -- the timed step (pice/timers.py) --------------------------------------------------------
+    def enable_timers(self):
+        """Switch to the timed step and return its StepTimers (pice/timers.py); the plain step reads no clock."""
+        self.timers = StepTimers()
+        self.step = self._timed_step  # this instance only; disable_timers() restores the plain step
+        return self.timers
+
+    def disable_timers(self) -> None:
+        """Back to the plain step, which reads no clock."""
+        self.timers = None
+        self.__dict__.pop("step", None)
+
+    def _timed_step(self) -> None:
+        """``step`` with each part timed: the same calls on the same arrays in the same order."""
+        p, dt, c, timers = self.p, self.dt, self.c, self.timers
+        lap = timers.lap
+        half = 0.5 * dt
+        platform = self.platform
+        kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
+        drift(p.nlocal, p.x, p.v, dt)
+        lap("integration")
+        if platform is not None:
+            platform.kick(half)
+            platform.drift(dt)
+            lap("platform")
+        c.step += 1
+        c.time = c.step * dt
+        if self.hulls:
+            self.broadcast_poses()
+            lap("waiting")
+        self.domain.exchange(p, c.step, timers)  # laps "halo" and "waiting"
+        self._timed_forces(lap)
+        kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
+        lap("integration")
+        if platform is not None:
+            platform.kick(half)
+            lap("platform")
+        timers.steps += 1
+
+    def _timed_forces(self, lap) -> None:
+        """``compute_forces`` with each force term timed (pice/timers.py TERM_PARTS)."""
+        p = self.p
+        p.force[:] = 0.0
+        p.torque[:] = 0.0
+        lap("integration")
+        for term in self.terms:
+            term.add_forces(p, self.c, self.dt)
+            lap(term_part(term))
+        if self.coupling is not None:
+            self._reduce_loads(lap)
 
     def advance(self, nsteps: int) -> None:
         """Take ``nsteps`` steps, checking for runaway motion every ``run.check_every`` steps."""
@@ -225,15 +282,21 @@ class Simulation:
 
     def check_health(self) -> None:
         """Raise InstabilityError naming the step, the element and the likely cause on NaN or runaway."""
-        p = self.p
+        p, timers = self.p, self.timers
         ratio, i, nonfinite = max_step_displacement(p.nlocal, p.v, p.w, p.radius, self.dt)
         bad = 1.0 if (nonfinite or ratio > RUNAWAY_STEP_FRACTION) else 0.0
         crushed = crushed_through(p) if self.job.crushing is not None else ()
+        if timers is not None:
+            timers.lap("checks")
         flags = self.comm.max(np.array([bad, 1.0 if len(crushed) else 0.0]))
+        if timers is not None:
+            timers.lap("waiting")
         if flags[0] == 0.0:
             if flags[1]:
                 self._remove_crushed(crushed)
-            self.domain.halo.check_bond_lengths(p)
+            self.domain.halo.check_bond_lengths(p, timers)  # laps "checks" and "waiting"
+            if timers is not None:
+                timers.lap("checks")
             return
         if not bad:  # another rank holds the runaway element: it reports, we stop with it
             raise InstabilityError(f"unstable at step {self.c.step}: reported by another rank")

@@ -63,15 +63,22 @@ class Domain:
         self.halo = Halo(self.comm, decomp, ghost_width=self.ghost_width, skin=self.parallel.skin)
         self.halo.rebuild(p)
 
-    def exchange(self, p, step: int) -> None:
-        """After the drift: rebalance on schedule, else rebuild the halo if needed, else update ghosts."""
+    def exchange(self, p, step: int, timers=None) -> None:
+        """After the drift: rebalance on schedule, else rebuild the halo if needed, else update ghosts.
+
+        ``timers``: the timed step's StepTimers (pice/timers.py), charged "halo" for the exchange and
+        "waiting" for the rebuild check's reduction; None in the plain step (no clock is read)."""
         every = self.parallel.balance_every
         if self.comm.size > 1 and every and step % every == 0 and self.rebalance(p, step):
+            if timers is not None:
+                timers.lap("halo")
             return
-        if self.halo.needs_rebuild(p):
+        if self.halo.needs_rebuild(p, timers):
             self.halo.rebuild(p)
         else:
             self.halo.update(p)
+        if timers is not None:
+            timers.lap("halo")
 
     def rebalance(self, p, step: int) -> bool:
         """Move the cuts if max/mean particles per rank exceeds the threshold; True if it did (and rebuilt)."""

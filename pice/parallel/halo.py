@@ -86,12 +86,19 @@ class Halo:
                 "raise [parallel] skin or check for a runaway element")
 
     # -- every step ----------------------------------------------------------------------------
-    def needs_rebuild(self, p) -> bool:
-        """True on every rank when any owned particle moved more than skin/2 since the last rebuild."""
+    def needs_rebuild(self, p, timers=None) -> bool:
+        """True on every rank when any owned particle moved more than skin/2 since the last rebuild.
+
+        ``timers`` (pice/timers.py, or None): the local scan is charged "halo", the reduction "waiting"."""
         if self.comm.size == 1:
             return False
         moved = max_displacement(p.x, self.x_ref, p.nlocal)
-        return self.comm.max(float(moved)) > 0.5 * self.skin
+        if timers is not None:
+            timers.lap("halo")
+        far = self.comm.max(float(moved)) > 0.5 * self.skin
+        if timers is not None:
+            timers.lap("waiting")
+        return far
 
     def update(self, p) -> None:
         """Send the current x, v, w of every ghost to the ranks that hold it."""
@@ -104,11 +111,18 @@ class Halo:
         recv, _ = self.comm.exchange_doubles(buf, GHOST_DOUBLES * counts)
         unpack_kinematics(recv, p.x, p.v, p.w, p.nlocal)
 
-    def check_bond_lengths(self, p) -> None:
-        """A bond longer than ghost_width - skin could lose its partner at the next rebuild."""
+    def check_bond_lengths(self, p, timers=None) -> None:
+        """A bond longer than ghost_width - skin could lose its partner at the next rebuild.
+
+        ``timers`` (pice/timers.py, or None): the local scan is charged "checks", the reduction "waiting"."""
         if self.comm.size == 1:
             return
-        longest = self.comm.max(float(longest_bond(p.x, p.nlocal, p.bond_j)))
+        local = float(longest_bond(p.x, p.nlocal, p.bond_j))
+        if timers is not None:
+            timers.lap("checks")
+        longest = self.comm.max(local)
+        if timers is not None:
+            timers.lap("waiting")
         if longest > self.ghost_width - self.skin:
             raise GhostWidthError(
                 f"a bond is stretched to {longest:.4g} m, beyond the ghost width {self.ghost_width:.4g} m "

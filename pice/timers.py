@@ -1,0 +1,94 @@
+"""Timers of the step, per rank: off by default, and then nothing reads a clock (pice bench, mpi/scaling.py).
+
+A Simulation runs its plain step unless ``Simulation.enable_timers()`` has switched it to the timed
+step, which calls the same functions in the same order and, between them, ``StepTimers.lap(part)``:
+the wall time since the previous lap is charged to ``part``. The laps follow one another without
+gaps, so over a window (``start`` to the last lap) the parts add up to the window's wall time; what
+happens between two laps that is not the part named (loop control, a counter) goes to the later
+lap's part and is microseconds a step.
+
+``summary(comm)`` gathers every rank's figures on rank 0 at the end: per part the milliseconds per
+step on each rank, their mean and maximum over ranks, and the mean's share of the step.
+"""
+
+from __future__ import annotations
+
+from time import perf_counter
+
+import numpy as np
+
+#: the parts of a step, in the order they are reported, with what each holds
+PARTS = {
+    "bonds": "bond forces and failure (physics/bond.py)",
+    "contacts": "ice-ice contacts with their neighbour search (cell list)",
+    "walls": "contacts with [[walls]]",
+    "hydro": "water (buoyancy, drag) or gravity",
+    "boundary": "far-field springs of [ice.push]",
+    "hull": "ice contacts with the hulls",
+    "integration": "kicks and drift of the ice, zeroing of the forces",
+    "halo": "ghost exchange, migration and halo rebuilds, load balance (local work and messages)",
+    "waiting": "collectives: the loads' reduction, the poses' broadcast, the rebuild check, the health "
+               "check's flags and bond lengths (where ranks wait for the slowest)",
+    "platform": "rank 0: the bodies' and lines' kick, drift and loads",
+    "checks": "the health check's local work, the removal of crushed-through elements",
+    "output": "series rows and broken-bond events (pice bench writes them at the job's series_every)",
+    "other": "force terms without a part of their own, the loads' assembly before the reduction",
+}
+
+#: force term name (``term.name``) -> the part its ``add_forces`` is charged to
+TERM_PARTS = {"bonds": "bonds", "ice contacts": "contacts", "walls": "walls", "water": "hydro",
+              "gravity": "hydro", "spring boundary": "boundary", "hull contact": "hull"}
+
+
+def term_part(term) -> str:
+    """The part a force term's time is charged to ("other" for a term this table does not know)."""
+    return TERM_PARTS.get(getattr(term, "name", ""), "other")
+
+
+class StepTimers:
+    """Seconds per part of the step on this rank, over the window since ``start``."""
+
+    def __init__(self):
+        self.seconds = dict.fromkeys(PARTS, 0.0)  # [s] per part since start
+        self.steps = 0                            # steps taken since start
+        self.mark = perf_counter()                # [s] the clock at the last lap
+
+    def start(self) -> None:
+        """Zero the figures and start a window now."""
+        self.seconds = dict.fromkeys(PARTS, 0.0)
+        self.steps = 0
+        self.mark = perf_counter()
+
+    def lap(self, part: str) -> None:
+        """Charge the wall time since the previous lap (or ``start``) to ``part``."""
+        now = perf_counter()
+        self.seconds[part] += now - self.mark
+        self.mark = now
+
+    def total(self) -> float:
+        """Wall seconds of the window so far (start to the last lap) on this rank [s]."""
+        return sum(self.seconds.values())
+
+    def summary(self, comm) -> dict | None:
+        """Collective: every rank's milliseconds per step, gathered on rank 0 (None on the others).
+
+        Returns {"ranks", "steps", "ms_per_step" (mean over ranks of the sum of the parts),
+        "max_ms_per_step", "parts": {part: {"ms_per_step" (mean over ranks), "max_ms_per_step",
+        "percent" (of the mean step), "per_rank_ms_per_step": [...]}}}.
+        """
+        rows = comm.gather([self.seconds[k] for k in PARTS] + [float(self.steps)])
+        if rows is None:
+            return None
+        table = np.asarray(rows, dtype=float)
+        steps = np.maximum(table[:, -1], 1.0)
+        ms = table[:, :-1] / steps[:, None] * 1e3  # [ms per step] per rank and part
+        per_rank_total = ms.sum(axis=1)
+        mean_total = float(per_rank_total.mean())
+        parts = {}
+        for k, name in enumerate(PARTS):
+            mean = float(ms[:, k].mean())
+            parts[name] = {"ms_per_step": mean, "max_ms_per_step": float(ms[:, k].max()),
+                           "percent": 100.0 * mean / mean_total if mean_total > 0 else 0.0,
+                           "per_rank_ms_per_step": [float(v) for v in ms[:, k]]}
+        return {"ranks": len(rows), "steps": int(table[0, -1]), "ms_per_step": mean_total,
+                "max_ms_per_step": float(per_rank_total.max()), "parts": parts}
