@@ -1,4 +1,4 @@
-"""Command line: ``pice run | check | export | plot | study | lab``. Heavy modules are imported inside each
+"""Command line: ``pice run | check | export | plot | study | lab | bench``. Heavy modules are imported inside each
 subcommand."""
 
 from __future__ import annotations
@@ -175,6 +175,48 @@ def _cmd_lab(args) -> int:
     return 0
 
 
+def _cmd_bench(args) -> int:
+    from .bench import run_bench
+    from .bench.report import report_lines
+
+    sheet = {k: getattr(args, k) for k in ("length", "width", "broken") if getattr(args, k) is not None}
+    result = run_bench(scene=args.scene, steps=args.steps, warmup=args.warmup, job=args.job, json_path=args.json,
+                       **sheet)
+    if result is not None:  # rank 0
+        print("\n".join(report_lines(result)))
+        print(f"pice: wrote {result['json']}")
+    return 0
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: must be a whole number >= 1")
+    return value
+
+
+def _add_bench_parser(sub) -> None:
+    b = sub.add_parser("bench", help="measure the speed on this machine (the 92k sheet's particle-steps/s, the "
+                                     "full reference scene's wall time per simulated second, the split of a step) "
+                                     "and write it as JSON with the machine, commit and settings")
+    b.add_argument("--scene", choices=("sheet", "full", "both"), default="both",
+                   help="the benchmark sheet, the full reference scene, or both (default)")
+    b.add_argument("--steps", type=_count, default=500, metavar="N",
+                   help="steps in each measured window (default 500; there are two per scene: plain and timed)")
+    b.add_argument("--warmup", type=_count, default=20, metavar="N",
+                   help="steps before the windows, after set-up (default 20): numba compiled, caches warm")
+    b.add_argument("--json", metavar="PATH", help="results as JSON (default runs/bench_<commit>_<R>ranks.json)")
+    b.add_argument("--job", metavar="PATH", help="the full scene's job (default jobs/zhu_ji_2022_semisub.toml)")
+    b.add_argument("--length", type=_positive, metavar="M", help="the sheet's length [m] (default 400)")
+    b.add_argument("--width", type=_positive, metavar="M", help="the sheet's width [m] (default 200)")
+    b.add_argument("--broken", type=int, metavar="N",
+                   help="bonds of the sheet broken at random before timing (default 300)")
+    b.set_defaults(func=_cmd_bench)
+
+
 def _lab_size(text: str):
     from .lab.specimens import parse_size
 
@@ -271,6 +313,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="offsets over t >= SECONDS only (default 0)")
     st.set_defaults(func=_cmd_study)
     _add_lab_parser(sub)
+    _add_bench_parser(sub)
     return ap
 
 

@@ -145,6 +145,16 @@ def world():
     return SerialComm()
 
 
+def mpi_library_version() -> str | None:
+    """The first line of the MPI library's version string when an MPI launcher started this process
+    (None otherwise: a serial process never initialises MPI)."""
+    if not launched_by_mpi():
+        return None
+    from mpi4py import MPI
+
+    return MPI.Get_library_version().strip().splitlines()[0].strip()
+
+
 def settle_all(timeout: float = 10.0) -> None:
     """Wait (at most ``timeout`` s) until every rank of an MPI job gets here: before a rank ends its
     process with os._exit, so that rank 0 has printed its message before the launcher ends the job."""

@@ -1,0 +1,87 @@
+"""pice bench and the step's timers (pice/bench/, pice/timers.py), on tiny scenes and a few steps.
+
+No assertion here is on speed (speed is measured by `pice bench` itself, on a quiet machine): these
+check the report's keys, that the timed parts cover the measured window, that the plain step reads
+no clock, and that the timed step gives the plain step's numbers bit for bit.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import scenes
+from launch import serial_only
+
+import pice.timers
+from pice.bench import run_bench
+from pice.bench.report import report_lines
+from pice.simulation import Simulation
+from pice.timers import PARTS
+
+#: the parts' sum against the timed window's wall time read outside the step: the laps follow one
+#: another, so only the microseconds between the window's clock reads and the first and last laps
+#: are outside the parts; 5 % leaves room for a preempted microsecond on a busy machine
+COVERAGE_TOLERANCE = 0.05
+
+
+def _barge(tmp_path, series_every=3):
+    path = tmp_path / "barge.toml"
+    path.write_text(scenes.barge_job(duration=0.05, series_every=series_every, mooring="dem"))
+    return path
+
+
+def test_bench_writes_the_figures_the_machine_and_a_split_that_adds_up(tmp_path):
+    serial_only()
+    out = tmp_path / "bench.json"
+    result = run_bench(scene="both", steps=6, warmup=2, job=_barge(tmp_path), length=12.0, width=8.0, broken=5,
+                       json_path=out)
+    data = json.loads(out.read_text())
+    assert {"format", "created_utc", "ranks", "machine", "software", "code", "settings", "sheet", "full"} <= set(data)
+    assert data["ranks"] == 1
+    assert {"cpu_model", "logical_cpus", "physical_cores", "memory_gib", "load_average_before"} <= set(data["machine"])
+    assert {"python", "numpy", "numba", "mpi4py", "mpi_library"} <= set(data["software"])
+    assert {"commit", "dirty"} <= set(data["code"])
+    assert data["settings"]["steps"] == 6
+    sheet, full = data["sheet"], data["full"]
+    assert sheet["elements"] > 50 and sheet["bonds_broken_before_timing"] == 5
+    assert sheet["particle_steps_per_second"] > 0 and sheet["dt"] > 0
+    assert full["bodies"] == 1 and full["mooring_lines"] == 4
+    assert full["projected_hours"] == pytest.approx(full["wall_s_per_simulated_s"] * 0.05 / 3600)
+    assert full["wall_s_per_simulated_s"] == pytest.approx(full["ms_per_step"] / 1e3 / full["dt"])
+    for split in (sheet["split"], full["split"]):
+        assert set(split["parts"]) == set(PARTS) and split["steps"] == 6
+        parts = sum(p["ms_per_step"] for p in split["parts"].values())
+        assert parts == pytest.approx(split["ms_per_step"], rel=1e-12)
+        assert sum(p["percent"] for p in split["parts"].values()) == pytest.approx(100.0)
+        assert 1.0 - COVERAGE_TOLERANCE <= split["sum_over_outside"] <= 1.0 + 1e-9
+        assert split["parts"]["bonds"]["ms_per_step"] > 0 and split["parts"]["integration"]["ms_per_step"] > 0
+    assert full["split"]["parts"]["platform"]["ms_per_step"] > 0 and full["split"]["parts"]["output"]["ms_per_step"] > 0
+    assert sheet["split"]["parts"]["output"]["ms_per_step"] == 0.0  # the sheet writes nothing
+    assert result["json"] == str(out) and not (tmp_path / "bench_scratch.h5").exists()
+    text = "\n".join(report_lines(result))
+    assert "particle-steps/s" in text and "per simulated second" in text and "platform" in text
+
+
+def test_the_plain_step_reads_no_clock_and_the_timed_step_gives_its_numbers_bit_for_bit(monkeypatch):
+    serial_only()
+    reads = []
+    real = pice.timers.perf_counter
+    monkeypatch.setattr(pice.timers, "perf_counter", lambda: reads.append(1) or real())
+    job = scenes.job_from_text(scenes.barge_job(mooring="dem"))  # ice, hull contact, bodies and DEM lines
+    plain, timed = Simulation(job), Simulation(job)
+    assert plain.timers is None and "step" not in vars(plain)  # the class's plain step
+    plain.advance(30)
+    assert reads == []  # nothing in the plain step, its exchange or its health check reads the clock
+    timers = timed.enable_timers()
+    timed.advance(30)
+    assert timers.steps == 30 and len(reads) > 30 and timers.total() > 0.0
+    for name in ("x", "v", "w", "force", "torque", "bond_hist", "contact_hist", "hull_hist"):
+        assert np.array_equal(getattr(plain.p, name), getattr(timed.p, name)), name
+    assert np.array_equal(plain.platform.poses(), timed.platform.poses())
+    assert np.array_equal(plain.body_total, timed.body_total)
+    timed.disable_timers()
+    reads.clear()
+    timed.advance(3)
+    assert reads == [] and timed.timers is None and "step" not in vars(timed)
