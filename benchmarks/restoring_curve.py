@@ -13,7 +13,8 @@ layout solve places the anchors for the 221.7 kN pretension), the platform trans
     the hull's hydrostatics, the load acting at the line of action of the coarse run's mean loads),
     which is how the platform of a run meets the lines.
 
-tests/physics/test_restoring_curve.py checks three of these offsets; docs/reference_scene.md has the table.
+tests/physics/test_restoring_curve.py checks the quasi-static lines at eight of these offsets and the DEM
+lines (20 m) at three; docs/reference_scene.md has the table.
 
     python benchmarks/restoring_curve.py [--coupled] [--offsets 0,5,10,...]
 """
