@@ -22,7 +22,7 @@ plane (a half-space wall: pushes only on the side its normal points to, so crush
   the block-turning term H_T, which assumes a neck at the top of the slope that a plane lacks).
 
 Measured (process time of one core; the file ~15 s with set-up): face, 6 s of drive, ~6 s: mean
-load 19.2 MN over t > 2.5 s (+3 % of Eq. 15), the 22 front elements in plastic flow but for the rows
+load 19.1 MN over t > 2.5 s (+3 % of Eq. 15), the 22 front elements in plastic flow but for the rows
 just after a removal, elements crushed through row after row, every broken bond mode 4. Slope, 2.5 s
 of drive, ~5 s: first break at t = 0.68 s 21.8 m from the slope, then 8 m; 100 of 100 breaks
 mode 1, none closer than 7.3 m to the slope, no element crushed through, no ice-structure contact
