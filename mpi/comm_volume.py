@@ -8,8 +8,8 @@ The simulation runs on pice.parallel.counting.CountingComm, which records every 
 exchange the step really issues, by kind and by the pice function that issued it (docs/performance.md,
 "Scaling"). The sheet is pice/bench/sheet.py's (the benchmark sheet of `pice bench`); ``--job`` takes
 a job file instead (e.g. the coarse reference scene, for the platform's collectives). Counting begins
-after ``--warmup`` steps. Printed on rank 0 and written as JSON (``--json``, default
-runs/comm_volume_<R>ranks.json). The counts do not depend on the machine; the seconds do (the time
+after ``--warmup`` steps; after the window ``--rebuilds`` halo rebuilds are forced and timed. Printed
+on rank 0 and written as JSON (``--json``, default runs/comm_volume_<R>ranks.json). The counts do not depend on the machine; the seconds do (the time
 inside each call, waiting for the slowest rank included): on a loaded machine they are not comparable.
 """
 
@@ -93,6 +93,18 @@ def report(s: dict) -> list[str]:
     return lines
 
 
+def forced_rebuilds(sim, comm, count: int) -> list[float]:
+    """Seconds [s] of ``count`` halo rebuilds forced after the window (Domain.rebuild: the migration
+    and the ghosts, what a rebuild does every skin/2 of motion), each from a barrier, the slowest rank's."""
+    out = []
+    for _ in range(count if comm.size > 1 else 0):
+        comm.inner.barrier()
+        t0 = time.perf_counter()
+        sim.domain.rebuild(sim.p)
+        out.append(comm.inner.max(time.perf_counter() - t0))
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=200)
@@ -101,6 +113,7 @@ def main() -> None:
     ap.add_argument("--width", type=float, default=200.0, help="[m] of the sheet across it")
     ap.add_argument("--broken", type=int, default=300, help="bonds broken at random before counting")
     ap.add_argument("--job", help="count this job file's scene instead of the sheet")
+    ap.add_argument("--rebuilds", type=int, default=3, help="halo rebuilds timed after the window")
     ap.add_argument("--json", help="where to write the figures (default runs/comm_volume_<R>ranks.json)")
     args = ap.parse_args()
 
@@ -116,12 +129,20 @@ def main() -> None:
     sim.advance(args.steps)
     wall = comm.inner.max(time.perf_counter() - t0)
     tables = comm.inner.gather(comm.table())
+    rebuild_s = forced_rebuilds(sim, comm, args.rebuilds)
     ranks = comm.inner.gather(per_rank(sim))
     if comm.rank != 0:
         return
     s = summarise(tables, ranks, args.steps, wall, scene)
+    s["forced_rebuild_ms"] = [1e3 * t for t in rebuild_s]
+    if rebuild_s:
+        s["forced_rebuild_us_per_owned"] = 1e6 * min(rebuild_s) / max(r["owned"] for r in ranks)
     s["load_average"] = list(os.getloadavg())
     print("\n".join(report(s)), flush=True)
+    if rebuild_s:
+        print(f"  forced rebuilds (migration and ghosts, slowest rank): "
+              f"{', '.join(f'{t:.1f}' for t in s['forced_rebuild_ms'])} ms, the fastest "
+              f"{s['forced_rebuild_us_per_owned']:.2f} us per owned element of the largest rank")
     path = pathlib.Path(args.json or f"runs/comm_volume_{s['ranks']}ranks.json")
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(s, indent=2) + "\n")
