@@ -60,13 +60,16 @@ class SerialComm:
 
 
 class MPIComm:
-    """COMM_WORLD through mpi4py: numpy-buffer collectives for the step, pickled ones for set-up."""
+    """COMM_WORLD through mpi4py: numpy-buffer collectives for the step, pickled ones for set-up.
 
-    def __init__(self):
+    ``comm``: another mpi4py communicator instead (a part of COMM_WORLD: mpi/scaling.py --weak runs
+    each point of its series on the first ranks of the job)."""
+
+    def __init__(self, comm=None):
         from mpi4py import MPI
 
         self._MPI = MPI
-        self.comm = MPI.COMM_WORLD
+        self.comm = comm if comm is not None else MPI.COMM_WORLD
         self.rank = self.comm.Get_rank()
         self.size = self.comm.Get_size()
 
