@@ -8,7 +8,7 @@
   (and the 4 MiB figure, beyond the caches);
 * pice's calls through pice.parallel.comm.MPIComm, on every rank, as the step makes them: the
   rebuild check's allreduce of a Python float (pickled), the health check's Allreduce of two
-  doubles, the loads' Reduce and the poses' Bcast of the full scene (13 and 6 doubles a body), and the
+  doubles, the loads' Reduce and the poses' Bcast of the full scene (6 and 13 doubles: one body), and the
   ghost update (Alltoall of the counts, then Alltoallv of ``--ghosts`` records of 9 doubles to each
   neighbour rank: 0 and 1 exchange with each other, further ranks with rank +-1).
 
@@ -77,11 +77,11 @@ def pice_calls(pcomm, comm, budget: float, ghosts: int) -> dict[str, list[float]
         if 0 <= r < size:
             counts[r] = 9 * ghosts
     send = np.random.default_rng(rank).random(int(counts.sum()))
-    flags, loads, poses = np.zeros(2), np.zeros((4, 6)), np.zeros((4, 13))
+    flags, loads, poses = np.zeros(2), np.zeros((1, 6)), np.zeros((1, 13))  # the full scene: one body
     calls = {"allreduce of a float (pickled: Halo.needs_rebuild)": lambda: pcomm.max(1.0),
              "Allreduce of 2 doubles (Simulation.check_health)": lambda: pcomm.max(flags),
-             "Reduce of 4 x 6 doubles (the loads, full scene)": lambda: pcomm.reduce_sum(loads),
-             "Bcast of 4 x 13 doubles (the poses, full scene)": lambda: pcomm.bcast_array(poses),
+             "Reduce of 6 doubles (the loads of one body, full scene)": lambda: pcomm.reduce_sum(loads),
+             "Bcast of 13 doubles (the pose of one body, full scene)": lambda: pcomm.bcast_array(poses),
              f"ghost update, {ghosts} records of 72 B per neighbour (Halo.update)":
                  lambda: pcomm.exchange_doubles(send, counts)}
     return {name: timed(fn, budget, comm, 50) for name, fn in calls.items()}
@@ -95,7 +95,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--budget", type=float, default=0.3, help="[s] of timing per figure")
     ap.add_argument("--ghosts", type=int, default=314, help="ghost records per neighbour in the ghost update "
-                    "(314: the 92k sheet on 2 ranks, mpi/comm_volume.py)")
+                    "(the 92k sheet on 2 ranks: 303-345, mpi/comm_volume.py)")
     ap.add_argument("--json", help="where to write the figures (default runs/pingpong_<R>ranks.json)")
     args = ap.parse_args()
 
