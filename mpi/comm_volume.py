@@ -9,8 +9,9 @@ exchange the step really issues, by kind and by the pice function that issued it
 "Scaling"). The sheet is pice/bench/sheet.py's (the benchmark sheet of `pice bench`); ``--job`` takes
 a job file instead (e.g. the coarse reference scene, for the platform's collectives). Counting begins
 after ``--warmup`` steps; after the window ``--rebuilds`` halo rebuilds are forced and timed. Printed
-on rank 0 and written as JSON (``--json``, default runs/comm_volume_<R>ranks.json). The counts do not depend on the machine; the seconds do (the time
-inside each call, waiting for the slowest rank included): on a loaded machine they are not comparable.
+on rank 0 and written as JSON (``--json``, default runs/comm_volume_<R>ranks.json). The counts do not
+depend on the machine; the seconds do (the time inside each call, waiting for the slowest rank
+included): on a loaded machine they are not comparable.
 """
 
 from __future__ import annotations
@@ -87,7 +88,8 @@ def report(s: dict) -> list[str]:
                      f"{r['messages_per_step']:10.4f} {r['bytes_per_step']:11.1f} {r['us_per_call']:9.1f}")
     t = s["per_step_without_rebuilds"]
     lines.append(f"  per step without rebuilds (mean per rank): {t['calls']:.2f} calls, {t['messages']:.2f} "
-                 f"point-to-point messages, {t['bytes'] / 1e3:.2f} kB; per rebuild {s['per_rebuild']['bytes'] / 1e3:.1f} kB")
+                 f"point-to-point messages, {t['bytes'] / 1e3:.2f} kB; "
+                 f"per rebuild {s['per_rebuild']['bytes'] / 1e3:.1f} kB")
     lines.append("  bytes: payload this rank sends (8 B a double, pickles as mpi4py sends them); "
                  "us/call: wall time inside the call, waiting included (this machine, loaded or not)")
     return lines
