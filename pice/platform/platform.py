@@ -110,6 +110,8 @@ class Platform:
         if ice is not None:
             self.ice = np.asarray(ice, float).reshape(len(self.bodies), 6)
         for k, b in enumerate(self.bodies):
+            if not b.free:  # a prescribed body moves as told: its loads drive nothing (the ice load
+                continue    # and the lines' pull are reported from self.ice and the lines)
             f, m = b.hydro_loads(rho_w=self.rho_w, g=self.g, level=self.level, current=self.current)
             b.force = f + self.ice[k, :3]
             b.torque = m + self.ice[k, 3:]
@@ -117,6 +119,8 @@ class Platform:
             pull = grp.lines.reactions(grp.lines.fairleads)
             for a in grp.attachments:
                 b = self.bodies[a.body]
+                if not b.free:
+                    continue
                 arm = rotation_matrix(b.q) @ a.point
                 b.force = b.force + pull[a.line]
                 b.torque = b.torque + np.cross(arm, pull[a.line])
