@@ -83,7 +83,8 @@ class Simulation:
         self.body_total = None   # rank 0: the reduced ice load on each body
         self.c = Counters()
         self.timers = None  # pice/timers.py StepTimers once enable_timers() has switched to the timed step
-        self.domain = Domain(self.comm, job.parallel, ghost_width=ghost_width(p, self.bond, job.parallel.skin))
+        self.domain = Domain(self.comm, job.parallel, ghost_width=ghost_width(p, self.bond, job.parallel.skin),
+                             dt=self.dt)
         if not restart:
             self.domain.distribute(p)
             self.compute_forces()

@@ -76,6 +76,36 @@ def max_displacement(x, x_ref, n):
 
 
 @njit(**JIT)
+def motion_bounds(x, x_ref, v, force, ext_force, mass, fix_mask, n):
+    """Over the first n rows: (largest |x - x_ref| [m], largest |v| [m/s], largest |a| [m/s^2]).
+
+    a = (F + F_ext) / m on the components that are integrated (a prescribed component keeps its
+    velocity, whatever force it carries). Halo.needs_rebuild bounds the motion to the next check with them."""
+    moved = 0.0
+    speed = 0.0
+    accel = 0.0
+    for i in range(n):
+        d2 = 0.0
+        s2 = 0.0
+        a2 = 0.0
+        for k in range(3):
+            d = x[i, k] - x_ref[i, k]
+            d2 += d * d
+            s2 += v[i, k] * v[i, k]
+            if not fix_mask[i, k]:
+                a = (force[i, k] + ext_force[i, k]) / mass[i]
+                a2 += a * a
+        # written so that a NaN is kept (max() with a NaN would drop it): the caller then checks every step
+        if not d2 <= moved:
+            moved = d2
+        if not s2 <= speed:
+            speed = s2
+        if not a2 <= accel:
+            accel = a2
+    return np.sqrt(moved), np.sqrt(speed), np.sqrt(accel)
+
+
+@njit(**JIT)
 def longest_bond(x, nlocal, bond_j):
     """Length of the longest intact bond of an owned particle [m] (partners must be resolved)."""
     worst = 0.0

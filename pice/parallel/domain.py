@@ -2,8 +2,8 @@
 
 The ice is cut in x-y into one subdomain per rank (decomposition.py). Each step the ghosts are
 refreshed (halo.py): their positions and velocities only, or a full migration and rebuild when some
-particle has moved half the skin; every ``balance_every`` steps the cuts move when the ranks'
-particle counts drift apart (balance.py).
+particle has moved half the skin (checked every few steps, as a bound on the motion allows); every
+``balance_every`` steps the cuts move when the ranks' particle counts drift apart (balance.py).
 """
 
 from __future__ import annotations
@@ -36,9 +36,10 @@ def ghost_width(p, bond, skin: float) -> float:
 class Domain:
     """The decomposition and halo of one rank, and the exchanges of the step."""
 
-    def __init__(self, comm, parallel, *, ghost_width: float):
-        """parallel: the job's [parallel] section (skin, balance_every, imbalance_threshold, domain)."""
-        self.comm, self.parallel, self.ghost_width = comm, parallel, ghost_width
+    def __init__(self, comm, parallel, *, ghost_width: float, dt: float):
+        """parallel: the job's [parallel] section (skin, balance_every, imbalance_threshold, domain);
+        ghost_width [m]; dt: the time step [s] (the halo's rebuild check bounds the motion with it)."""
+        self.comm, self.parallel, self.ghost_width, self.dt = comm, parallel, ghost_width, dt
         self.decomp: Decomposition | None = None
         self.halo: Halo | None = None
         self.imbalance = 1.0
@@ -51,7 +52,7 @@ class Domain:
         else:
             lo, hi = tuple(p.x[:, :2].min(axis=0)), tuple(p.x[:, :2].max(axis=0))
         self.decomp = uniform(self.comm.size, lo=lo, hi=hi)
-        self.halo = Halo(self.comm, self.decomp, ghost_width=self.ghost_width, skin=par.skin)
+        self.halo = Halo(self.comm, self.decomp, ghost_width=self.ghost_width, skin=par.skin, dt=self.dt)
         if self.comm.size > 1:
             mine = np.nonzero(self.decomp.owner(p.x[:, 0], p.x[:, 1]) == self.comm.rank)[0]
             p.replace_rows([p.rows(mine)], len(mine))
@@ -60,7 +61,8 @@ class Domain:
     def adopt(self, p, decomp: Decomposition) -> None:
         """Take ``decomp`` (from a checkpoint) for particles ``p`` already placed on their ranks."""
         self.decomp = decomp
-        self.halo = Halo(self.comm, decomp, ghost_width=self.ghost_width, skin=self.parallel.skin)
+        self.halo = Halo(self.comm, decomp, ghost_width=self.ghost_width, skin=self.parallel.skin,
+                         dt=self.dt)
         self.halo.rebuild(p)
 
     def exchange(self, p, step: int, timers=None) -> None:

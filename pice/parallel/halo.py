@@ -5,17 +5,60 @@ the cuts moved) particles migrate to the rank owning their centre, carrying thei
 history, and each rank receives full copies of the particles within ``ghost_width`` of its
 subdomain (ghosts, appended after the owned particles, ordered by source rank). In between, only
 positions and velocities of those ghosts are sent, every step. With one rank nothing is sent.
+
+Whether a rebuild is due is not asked every step: a check (one reduction of three doubles) bounds
+how far any element can move before the next one, and skips the steps in between
+(``steps_to_next_check``).
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
 from ..errors import PiceError
 from ..kernels.bonds import sync_mate_history
-from ..kernels.halo import (GHOST_DOUBLES, longest_bond, max_displacement, pack_kinematics,
+from ..kernels.halo import (GHOST_DOUBLES, longest_bond, motion_bounds, pack_kinematics,
                             resolve_bond_partners, unpack_kinematics)
 from .decomposition import Decomposition
+
+#: at most this many steps [-] between two rebuild checks, whatever the bound allows
+CHECK_INTERVAL_CAP = 50
+#: the motion bound is doubled [-]: speeds and accelerations may grow between two checks
+GROWTH_SAFETY = 2.0
+
+
+def steps_to_next_check(budget: float, speed: float, accel: float, dt: float,
+                        cap: int = CHECK_INTERVAL_CAP) -> int:
+    """Steps N [-] from this rebuild check to the next one, 1 <= N <= cap.
+
+    budget: half the skin less the largest displacement since the last rebuild [m]; speed: the
+    largest element speed [m/s]; accel: the largest acceleration (F + F_ext)/m [m/s^2]; dt [s].
+
+    The bound. After the drift of step s the velocity is v(s - 1/2); the next drifts move an
+    element by dt (v(s + k - 1/2)) with |v(s + k - 1/2)| <= speed + k dt a when its acceleration
+    stays below a. Over n steps it moves at most n dt speed + dt^2 a n (n + 1)/2 <= tau speed +
+    tau^2 a with tau = n dt. The speeds and accelerations of this check may grow before the next
+    one (a contact forms, a wall or hull arrives), so the bound is doubled (GROWTH_SAFETY): the n
+    unchecked steps after this one are allowed only while GROWTH_SAFETY (tau speed + tau^2 a) <=
+    budget, i.e. while both may double. The cap (CHECK_INTERVAL_CAP, 50) limits what growth beyond
+    that could do: an element at rest must reach (skin/2)/(50 dt), 10 m/s for the 0.3 m skin at
+    dt = 3e-4 s, within 50 steps to cross half the skin unseen. Near the threshold N falls to 1,
+    so a rebuild happens on the very step where some element has moved half the skin, as when the
+    check ran every step: the step's numbers do not depend on the checks skipped.
+    A non-finite input (a NaN velocity: the health check reports it) gives N = 1."""
+    if not (math.isfinite(budget) and math.isfinite(speed) and math.isfinite(accel)) or budget <= 0.0:
+        return 1
+    b = budget / GROWTH_SAFETY
+    if accel > 0.0:
+        tau = 2.0 * b / (speed + math.sqrt(speed * speed + 4.0 * accel * b))  # root of a tau^2 + v tau = b
+    elif speed > 0.0:
+        tau = b / speed
+    else:
+        return cap
+    unchecked = math.floor(tau / dt) if tau < cap * dt else cap
+    return int(max(1, min(cap, 1 + unchecked)))
 
 
 class GhostWidthError(PiceError):
@@ -27,11 +70,15 @@ class GhostWidthError(PiceError):
 class Halo:
     """Ghost lists of one rank and the exchanges that use them."""
 
-    def __init__(self, comm, decomposition: Decomposition, *, ghost_width: float, skin: float):
+    def __init__(self, comm, decomposition: Decomposition, *, ghost_width: float, skin: float, dt: float):
+        """ghost_width, skin [m]; dt: the time step [s] (the rebuild check's motion bound)."""
         self.comm = comm
         self.decomp = decomposition
         self.ghost_width = ghost_width
         self.skin = skin
+        self.dt = dt
+        self.check_cap = CHECK_INTERVAL_CAP  # 1: check every step (as before the bound; tests compare)
+        self.skip = 0  # exchanges left before the next rebuild check
         self.send_idx: list[np.ndarray] = [np.zeros(0, np.int64) for _ in range(comm.size)]
         self.x_ref = None
 
@@ -61,6 +108,7 @@ class Halo:
             p.replace_rows([merged] + ghost_blocks, nlocal)
         self.resolve(p)
         self.x_ref = p.x[:p.nlocal].copy()
+        self.skip = 0  # check at the next exchange: the schedule restarts from every rebuild (and restart)
 
     def _ghost_targets(self, x: np.ndarray) -> list[np.ndarray]:
         """For each rank, the indices of owned particles within ghost_width of its subdomain."""
@@ -89,16 +137,29 @@ class Halo:
     def needs_rebuild(self, p, timers=None) -> bool:
         """True on every rank when any owned particle moved more than skin/2 since the last rebuild.
 
+        Asked on every exchange, it reduces only on the steps of a check: a check finds the largest
+        displacement, speed and acceleration over all ranks (one Allreduce of 3 doubles) and from
+        them the steps until the next check (``steps_to_next_check``); the exchanges in between
+        return False without a message. The schedule depends only on the state, so that a restart
+        (which rebuilds, as the checkpointed run did) keeps it.
+
         ``timers`` (pice/timers.py, or None): the local scan is charged "halo", the reduction "waiting"."""
         if self.comm.size == 1:
             return False
-        moved = max_displacement(p.x, self.x_ref, p.nlocal)
+        if self.skip > 0:
+            self.skip -= 1
+            return False
+        local = np.array(motion_bounds(p.x, self.x_ref, p.v, p.force, p.ext_force, p.mass, p.fix_mask, p.nlocal))
         if timers is not None:
             timers.lap("halo")
-        far = self.comm.max(float(moved)) > 0.5 * self.skin
+        moved, speed, accel = self.comm.max(local)
         if timers is not None:
             timers.lap("waiting")
-        return far
+        budget = 0.5 * self.skin - moved
+        if budget < 0.0:
+            return True
+        self.skip = steps_to_next_check(budget, speed, accel, self.dt, self.check_cap) - 1
+        return False
 
     def update(self, p) -> None:
         """Send the current x, v, w of every ghost to the ranks that hold it."""
@@ -117,10 +178,10 @@ class Halo:
         ``timers`` (pice/timers.py, or None): the local scan is charged "checks", the reduction "waiting"."""
         if self.comm.size == 1:
             return
-        local = float(longest_bond(p.x, p.nlocal, p.bond_j))
+        local = np.array([longest_bond(p.x, p.nlocal, p.bond_j)], dtype=np.float64)
         if timers is not None:
             timers.lap("checks")
-        longest = self.comm.max(local)
+        longest = float(self.comm.max(local)[0])
         if timers is not None:
             timers.lap("waiting")
         if longest > self.ghost_width - self.skin:
