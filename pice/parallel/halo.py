@@ -172,18 +172,16 @@ class Halo:
         recv, _ = self.comm.exchange_doubles(buf, GHOST_DOUBLES * counts)
         unpack_kinematics(recv, p.x, p.v, p.w, p.nlocal)
 
-    def check_bond_lengths(self, p, timers=None) -> None:
-        """A bond longer than ghost_width - skin could lose its partner at the next rebuild.
+    def local_longest_bond(self, p) -> float:
+        """Length [m] of this rank's longest intact bond (0 on one rank, where nothing can be lost).
 
-        ``timers`` (pice/timers.py, or None): the local scan is charged "checks", the reduction "waiting"."""
+        The health check reduces it with its own flags (one reduction), then ``refuse_long_bond``."""
         if self.comm.size == 1:
-            return
-        local = np.array([longest_bond(p.x, p.nlocal, p.bond_j)], dtype=np.float64)
-        if timers is not None:
-            timers.lap("checks")
-        longest = float(self.comm.max(local)[0])
-        if timers is not None:
-            timers.lap("waiting")
+            return 0.0
+        return float(longest_bond(p.x, p.nlocal, p.bond_j))
+
+    def refuse_long_bond(self, longest: float) -> None:
+        """A bond longer [m] than ghost_width - skin could lose its partner at the next rebuild."""
         if longest > self.ghost_width - self.skin:
             raise GhostWidthError(
                 f"a bond is stretched to {longest:.4g} m, beyond the ghost width {self.ghost_width:.4g} m "

@@ -1,6 +1,6 @@
 """The halo's rebuild check every N steps, N from a bound on the motion (parallel/halo.py
 steps_to_next_check), on two ranks (under `mpiexec -n 2 python -m pytest -m mpi`): a slow sheet
-reduces far less than once a step, with a numpy Allreduce, and a fast, accelerating sheet rebuilds on
+reduces far less than once a step, with a numpy Allreduce (and the health check once), and a fast, accelerating sheet rebuilds on
 the same steps, with the same bits, as with the check forced on every step."""
 
 from __future__ import annotations
@@ -60,8 +60,9 @@ def test_a_slow_sheet_checks_far_less_than_every_step():
     check = rows[("allreduce", "Halo.needs_rebuild")]
     assert check["calls"] < steps / 10, check  # the sheet moves ~1 m/s: 0.15 m takes ~160 steps, capped at 50
     assert check["bytes"] == 24 * check["calls"]  # 3 doubles a check, as a numpy buffer (not pickled)
-    bonds = rows[("allreduce", "Halo.check_bond_lengths")]
-    assert bonds["bytes"] == 8 * bonds["calls"]  # one double, not pickled
+    health = rows[("allreduce", "Simulation.check_health")]  # one reduction: flags and the longest bond
+    assert health["calls"] == steps // sim.job.run.check_every and health["bytes"] == 24 * health["calls"]
+    assert not any(caller.startswith("Halo.check_bond") for _, caller in rows)
 
 
 def test_a_fast_accelerating_sheet_rebuilds_on_the_same_steps_with_the_same_bits():
