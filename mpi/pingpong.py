@@ -77,9 +77,10 @@ def pice_calls(pcomm, comm, budget: float, ghosts: int) -> dict[str, list[float]
         if 0 <= r < size:
             counts[r] = 9 * ghosts
     send = np.random.default_rng(rank).random(int(counts.sum()))
-    flags, loads, poses = np.zeros(2), np.zeros((1, 6)), np.zeros((1, 13))  # the full scene: one body
-    calls = {"allreduce of a float (pickled: Halo.needs_rebuild)": lambda: pcomm.max(1.0),
-             "Allreduce of 2 doubles (Simulation.check_health)": lambda: pcomm.max(flags),
+    flags, loads, poses = np.zeros(3), np.zeros((1, 6)), np.zeros((1, 13))  # the full scene: one body
+    calls = {"allreduce of a float (pickled: as Halo.needs_rebuild was, every step)": lambda: pcomm.max(1.0),
+             "Allreduce of 3 doubles (Halo.needs_rebuild on a check, Simulation.check_health)":
+                 lambda: pcomm.max(flags),
              "Reduce of 6 doubles (the loads of one body, full scene)": lambda: pcomm.reduce_sum(loads),
              "Bcast of 13 doubles (the pose of one body, full scene)": lambda: pcomm.bcast_array(poses),
              f"ghost update, {ghosts} records of 72 B per neighbour (Halo.update)":
