@@ -94,8 +94,8 @@ def kill9(proc: subprocess.Popen) -> None:
     for pid in pids:
         try:
             os.kill(pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
+        except ProcessLookupError:  # already gone: nothing to kill
+            continue
     proc.wait(timeout=30)
     deadline = time.monotonic() + 30
     while any(alive(pid) for pid in pids) and time.monotonic() < deadline:
