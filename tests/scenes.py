@@ -147,17 +147,23 @@ def contract_job(folder: pathlib.Path, name: str = "contract", *, dt: float = 1.
     return job
 
 
+_VERTICAL_PLANE = "point = [0.0, 0.0, 0.0]\nnormal = [-1.0, 0.0, 0.0]"
+
+
 def crushing_face_job(*, length: float, width: float, d: float, speed: float, stiffness: float, run: str,
-                      structure: str = '"iso19906"', h: float = 1.0, parallel: str = "") -> str:
-    """A sheet of plate cells (1 GPa, sigma_f 0.5 MPa, sigma_c 2.5 MPa) `length` x `width` [m] of
-    elements `d` [m], its rear two rows on far-field springs (`stiffness` [N/m per element]) drifting
-    at `speed` [m/s], 0.05 m from a vertical plane at x = 0 as wide as the sheet, with [crushing]
-    (`structure`: "iso19906" or a pressure [Pa]). `run` is the [run] table's body."""
+                      structure: str = '"iso19906"', h: float = 1.0, parallel: str = "",
+                      water: str = "density = 1025.0", flexural_strength: float = 0.5e6,
+                      plane: str = _VERTICAL_PLANE) -> str:
+    """A sheet of plate cells (1 GPa, nu 0.3, sigma_f `flexural_strength` [Pa], sigma_c 2.5 MPa)
+    `length` x `width` [m] of elements `d` [m], its rear two rows on far-field springs (`stiffness`
+    [N/m per element]) drifting at `speed` [m/s], its front 0.05 m behind x = 0, against a plane as
+    wide as the sheet (`plane`: its point and normal lines; by default vertical through x = 0), with
+    [crushing] (`structure`: "iso19906" or a pressure [Pa]). `run` and `water` are those tables' bodies."""
     return f"""\
 [run]
 {run}
 [water]
-density = 1025.0
+{water}
 [ice]
 length = {length!r}
 width = {width!r}
@@ -167,7 +173,7 @@ element_volume = "cell"
 origin = [{-length - 0.05!r}, {-width / 2!r}]
 velocity = [{speed!r}, 0.0]
 youngs_modulus = 1.0e9
-flexural_strength = 0.5e6
+flexural_strength = {flexural_strength!r}
 compressive_strength = 2.5e6
 push = {{speed = {speed!r}, rows = 2, stiffness = {stiffness!r}}}
 [bond]
@@ -178,8 +184,7 @@ friction = 0.15
 structure = {structure}
 [[walls]]
 type = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [-1.0, 0.0, 0.0]
+{plane}
 friction = 0.15
 crushing_width = {width!r}
 {parallel}"""

@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 import pytest
-from scenes import job_from_text
+from scenes import crushing_face_job, job_from_text
 
 from pice.physics.iso19906 import cone_load, crushing_load
 from pice.simulation import Simulation
@@ -55,39 +55,10 @@ def _job(*, slope: bool, length: float, duration: float) -> str:
         plane = f"point = [{x_w!r}, 0.0, 0.0]\nnormal = [-1.0, 0.0, 1.0]"
     else:
         plane = "point = [0.0, 0.0, 0.0]\nnormal = [-1.0, 0.0, 0.0]"
-    return f"""\
-[run]
-duration = {duration!r}
-check_every = 10
-[water]
-density = {RHO_W!r}
-current = [{SPEED!r}, 0.0]
-[ice]
-density = {RHO_I!r}
-length = {length!r}
-width = {WIDTH!r}
-thickness = {H!r}
-element_diameter = {D!r}
-element_volume = "cell"
-origin = [{-length - 0.05!r}, {-WIDTH / 2!r}]
-velocity = [{SPEED!r}, 0.0]
-youngs_modulus = {E!r}
-poissons_ratio = {NU!r}
-flexural_strength = {SIGMA_F!r}
-compressive_strength = 2.5e6
-push = {{speed = {SPEED!r}, rows = 2, stiffness = 1.0e6, damping_ratio = 1.0}}
-[bond]
-damping_ratio = 0.1
-[contact]
-friction = 0.15
-[crushing]
-structure = "iso19906"
-[[walls]]
-type = "plane"
-{plane}
-friction = 0.15
-crushing_width = {WIDTH!r}
-"""
+    return crushing_face_job(length=length, width=WIDTH, d=D, speed=SPEED, stiffness=1.0e6, h=H,
+                             run=f"duration = {duration!r}\ncheck_every = 10",
+                             water=f"density = {RHO_W!r}\ncurrent = [{SPEED!r}, 0.0]",
+                             flexural_strength=SIGMA_F, plane=plane)
 
 
 def _run(*, slope: bool, length: float, duration: float, every: float = 0.05):
