@@ -39,6 +39,7 @@ from .scenes.loads import apply_loads_and_fixes
 from .timers import StepTimers, term_part
 
 RUNAWAY_STEP_FRACTION = 0.05  # an element moving more than 5 % of its radius in one step has run away
+CONTACT_SKIN = 0.3  # the contact neighbour list's skin, of the largest element diameter (kernels/pair_list.py)
 
 
 @dataclass
@@ -127,7 +128,7 @@ class Simulation:
         """The force terms the job declares, in the order the step applies them."""
         job, p = self.job, self.p
         self.bond_term = BondTerm(self.bond.kernel_law(mass=float(p.mass.min()), inertia=float(p.inertia.min())))
-        self.ice_contact_term = IceContactTerm(self.contact_law, cell_size=2.0 * float(p.radius.max()) * 1.0001)
+        self.ice_contact_term = IceContactTerm(self.contact_law, skin=CONTACT_SKIN * 2.0 * float(p.radius.max()))
         terms = [self.bond_term, self.ice_contact_term]
         if self.walls is not None:
             terms.append(self.walls)
@@ -149,13 +150,16 @@ class Simulation:
     def _time_step(self):
         p, b, law = self.p, self.bond, self.contact_law
         push = self.job.ice.push
-        kw = max([0.0] + ([float(k) for k in self.walls.params["kn"]] if self.walls else []) +
-                 [float(h.law.kn) for h in self.hulls] +
-                 [push.stiffness if push is not None and push.stiffness is not None else 0.0])
-        i = int(np.argmin(p.mass))
-        stable, why = stable_step(mass=float(p.mass[i]), inertia=float(p.inertia[i]), d=self.sheet.spacing,
+        m, inertia = float(p.mass.min()), float(p.inertia[int(np.argmin(p.mass))])
+        # every structure's link to an element: (k_n, k_t [N/m], c_n [N s/m]), the element's own mass
+        links = [(r[0], r[1], 2.0 * r[2] * math.sqrt(m * r[0]))
+                 for r in ([tuple(w) for w in self.walls.params] if self.walls else []) + [tuple(h.law) for h in self.hulls]]
+        if push is not None and push.stiffness is not None:
+            links.append((push.stiffness, 0.0, 2.0 * push.damping_ratio * math.sqrt(m * push.stiffness)))
+        structure = tuple(max(link[k] for link in links) for k in range(3)) if links else None
+        stable, why = stable_step(mass=m, inertia=inertia, d=self.sheet.spacing,
                                   n_layers=self.sheet.n_layers, bond=(b.kn, b.ks, b.kt, b.kb),
-                                  contact=(law.kn, law.kt), wall_stiffness=kw, damping_ratio=b.damping_ratio,
+                                  contact=(law.kn, law.kt), structure=structure, damping_ratio=b.damping_ratio,
                                   contact_damping_ratio=law.zeta)
         run = self.job.run
         return choose_step(requested=run.dt, safety=run.dt_safety, stable=stable, governed_by=why,

@@ -68,6 +68,7 @@ class Particles:
     anchor: np.ndarray = field(default=None)         # (n,3) spring-boundary anchor at t = 0 [m]
     anchor_k: np.ndarray = field(default=None)       # (n,3) spring-boundary stiffness per direction [N/m] (0: free)
     nlocal: int = 0
+    topology: int = 0  # raised whenever a bond is removed from these rows (the contact candidates change)
 
     @property
     def n(self) -> int:

@@ -54,6 +54,7 @@ def break_random_bonds(sim, count: int, seed: int = SEED) -> int:
     hit = (b >= 0) & np.isin(_pair_key(a, b), keys)
     p.bond_j[:m][hit] = -1
     p.bond_gid[:m][hit] = -1
+    p.topology += 1
     return len(pairs)
 
 

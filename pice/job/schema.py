@@ -105,7 +105,7 @@ class ContactSpec(Section):
     """[contact]: linear spring-dashpot normal force, tangential spring with Coulomb friction."""
 
     normal_stiffness: Optional[quantity("N/m")] = None
-    stiffness_ratio: quantity("", le=1.0) = 0.5
+    stiffness_ratio: Optional[quantity("", le=1.0)] = None  # k_t / k_n; default G / E = 1 / (2 (1 + nu))
     restitution: quantity("", le=1.0) = 0.3
     friction: quantity("", gt=None, ge=0.0) = 0.15
 

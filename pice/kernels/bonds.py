@@ -150,11 +150,14 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
             breaks beyond its length are counted but not logged.
 
     Returns:
-        Number of bonds broken in this call (counted once per bond on this rank).
+        (broken, removed): the bonds broken in this call, counted once over the ranks (by the rank that
+        owns the lower-gid end), and the bonds this rank removed from its rows (a bond to a ghost breaks
+        on both ranks holding it).
     """
     nslots = bond_j.shape[1]
     max_events = events.shape[0]
     nbroken = 0
+    nremoved = 0
     for i in range(nlocal):
         for s in range(nslots):
             j = bond_j[i, s]
@@ -168,6 +171,7 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
             b = j if i_is_a else i
             r = _bond_core(a, b, x, v, w, radius, bond_L0[i, s], bond_hist, i, s, law, dt)
             if r[0] != INTACT:
+                nremoved += 1
                 bond_j[i, s] = -1
                 bond_gid[i, s] = -1
                 if j_owned:
@@ -201,7 +205,7 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
                 torque[j, 0] += r[7]
                 torque[j, 1] += r[8]
                 torque[j, 2] += r[9]
-    return nbroken
+    return nbroken, nremoved
 
 
 @njit(**JIT)

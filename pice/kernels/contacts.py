@@ -1,4 +1,5 @@
-"""Contact between unbonded spheres: cell-list search and the shared contact law (contact_law.py).
+"""Contact between unbonded spheres: the cell list, and the shared contact law (contact_law.py) on the
+candidates of the neighbour list (pair_list.py).
 
 The effective mass of a pair is m_a m_b / (m_a + m_b). The tangential history of a contact is kept
 per particle in slots keyed by the partner's gid and, like bonds, computed in canonical orientation
@@ -100,60 +101,38 @@ def _bonded(bond_j, i, j):
 
 
 @njit(**JIT)
-def contact_forces(nlocal, ntotal, gid, x, v, w, radius, mass, cell_area, half_height, bond_j, cgid, stamp,
-                   chist, law, dt, step, cell_size, force, torque):
-    """Add contact forces between unbonded overlapping spheres.
+def contact_forces(nlocal, gid, x, v, w, radius, mass, cell_area, half_height, pair_start, partners, cgid, stamp,
+                   chist, law, dt, step, force, torque):
+    """Add contact forces between unbonded overlapping spheres, among the candidates of the pair list
+    (pair_list.py: owned i's are partners[pair_start[i]:pair_start[i+1]], unbonded, in gid order).
 
     law: the contact law's parameters (physics.contact.ContactLaw: kn, kt, zeta, mu, crushing_pressure).
     chist: (n, slots, 4) per contact: tangential force on the lower-gid end [N] and plastic penetration [m].
     Returns (contacts, elastic energy [J], contacts in plastic flow (crushing)).
     """
-    origin, dims, start, order, size = build_cell_list(x, ntotal, cell_size)
     ncontacts = 0
     ncrushing = 0
     energy = 0.0
     n = np.empty(3)
     for i in range(nlocal):
-        cx = _cell_index((x[i, 0] - origin[0]) / size, dims[0])
-        cy = _cell_index((x[i, 1] - origin[1]) / size, dims[1])
-        cz = _cell_index((x[i, 2] - origin[2]) / size, dims[2])
-        for dz in range(-1, 2):
-            z = cz + dz
-            if z < 0 or z >= dims[2]:
+        for q in range(pair_start[i], pair_start[i + 1]):
+            j = partners[q]
+            d0 = x[j, 0] - x[i, 0]
+            d1 = x[j, 1] - x[i, 1]
+            d2 = x[j, 2] - x[i, 2]
+            dist2 = d0 * d0 + d1 * d1 + d2 * d2
+            rsum = radius[i] + radius[j]
+            if dist2 >= rsum * rsum or dist2 == 0.0:
                 continue
-            for dy in range(-1, 2):
-                y = cy + dy
-                if y < 0 or y >= dims[1]:
-                    continue
-                for dxc in range(-1, 2):
-                    xx = cx + dxc
-                    if xx < 0 or xx >= dims[0]:
-                        continue
-                    c = (z * dims[1] + y) * dims[0] + xx
-                    for p in range(start[c], start[c + 1]):
-                        j = order[p]
-                        if j == i:
-                            continue
-                        j_owned = j < nlocal
-                        if j_owned and gid[j] < gid[i]:
-                            continue  # handled from j
-                        d0 = x[j, 0] - x[i, 0]
-                        d1 = x[j, 1] - x[i, 1]
-                        d2 = x[j, 2] - x[i, 2]
-                        dist2 = d0 * d0 + d1 * d1 + d2 * d2
-                        rsum = radius[i] + radius[j]
-                        if dist2 >= rsum * rsum or dist2 == 0.0:
-                            continue
-                        if _bonded(bond_j, i, j):
-                            continue
-                        i_is_a = gid[i] < gid[j]
-                        a = i if i_is_a else j
-                        b = j if i_is_a else i
-                        ncontacts += 1
-                        e, yielding = _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, cell_area,
-                                            half_height, gid, cgid, stamp, chist, law, dt, step, n, force, torque)
-                        energy += e
-                        ncrushing += yielding
+            j_owned = j < nlocal
+            i_is_a = gid[i] < gid[j]
+            a = i if i_is_a else j
+            b = j if i_is_a else i
+            ncontacts += 1
+            e, yielding = _pair(a, b, i, j, i_is_a, j_owned, x, v, w, radius, mass, cell_area,
+                                half_height, gid, cgid, stamp, chist, law, dt, step, n, force, torque)
+            energy += e
+            ncrushing += yielding
     return ncontacts, energy, ncrushing
 
 

@@ -80,8 +80,10 @@ class BondTerm:
         self._events = np.zeros((self.max_events, 3), dtype=np.int64)  # gid_a, gid_b, mode
 
     def add_forces(self, p, c, dt):
-        nb = bond_forces(p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.bond_j, p.bond_mate, p.bond_gid,
-                         p.bond_L0, p.bond_hist, self.law, dt, p.force, p.torque, self._events)
+        nb, removed = bond_forces(p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.bond_j, p.bond_mate, p.bond_gid,
+                                  p.bond_L0, p.bond_hist, self.law, dt, p.force, p.torque, self._events)
+        if removed:
+            p.topology += 1  # the contact candidates change (physics/contact.py)
         if nb:
             c.broken += nb
             for a, b, mode in self._events[:min(nb, self.max_events)]:

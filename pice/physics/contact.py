@@ -12,6 +12,7 @@ from collections import namedtuple
 import numpy as np
 
 from ..kernels.contacts import contact_forces
+from ..kernels.pair_list import build_pair_list, moved_beyond
 from .iso19906 import crushing_pressure
 
 ContactLaw = namedtuple("ContactLaw", ["kn", "kt", "zeta", "mu", "crushing_pressure"], defaults=[math.inf])
@@ -30,11 +31,22 @@ def damping_ratio_from_restitution(e: float) -> float:
     return -le / math.sqrt(math.pi ** 2 + le * le)
 
 
+def tangential_ratio(job) -> float:
+    """k_t / k_n of every contact: contact.stiffness_ratio, by default the ice's G / E = 1 / (2 (1 + nu)).
+
+    The contact of two elements is elastic-perfectly-plastic (the crushing law): before the cap its
+    normal spring is the ice's in-plane stiffness from E (the bond's k_n: compression across a crack
+    feels the modulus of the intact sheet), and its tangential spring is the same block's shear
+    stiffness, G A / L against E A / L (docs/crushing.md, "Contact stiffness")."""
+    ratio = job.contact.stiffness_ratio
+    return float(ratio) if ratio is not None else 1.0 / (2.0 * (1.0 + job.ice.poissons_ratio))
+
+
 def contact_law(job, *, kn: float, friction: float, crushing_pressure: float = math.inf) -> ContactLaw:
     """The job's contact law ([contact]: stiffness ratio, restitution) with normal stiffness kn [N/m],
     and the crushing pressure [Pa] (inf: none)."""
     c = job.contact
-    return ContactLaw(kn=float(kn), kt=float(c.stiffness_ratio * kn),
+    return ContactLaw(kn=float(kn), kt=float(tangential_ratio(job) * kn),
                       zeta=float(damping_ratio_from_restitution(c.restitution)), mu=float(friction),
                       crushing_pressure=float(crushing_pressure))
 
@@ -72,16 +84,34 @@ def law_records(laws) -> np.ndarray:
 class IceContactTerm:
     """Contact between unbonded ice elements (kernels/contacts.py): sets ``c.contacts`` (the pairs in
     contact on this rank) and ``c.contact_energy`` [J]; ``crushing`` counts the contacts in plastic
-    flow (crushing) in the last step."""
+    flow (crushing) in the last step.
+
+    The candidates come from a neighbour list with a skin (kernels/pair_list.py), rebuilt when the
+    rows were replaced (migration, ghosts, removal: a new ``p.gid`` array), a bond was removed
+    (``p.topology``), or an element has moved half the skin since the list was built; ``builds``
+    counts the rebuilds. skin [m]: 0.3 of the largest diameter by default."""
 
     crushing = 0
-
+    builds = 0
     name = "ice contacts"
 
-    def __init__(self, law: ContactLaw, *, cell_size: float):
-        self.law, self.cell_size = law, cell_size
+    def __init__(self, law: ContactLaw, *, skin: float):
+        self.law, self.skin = law, float(skin)
+        self._built_for = None  # (p.gid, nlocal, topology) the list was built for
+        self._x_ref = None
+
+    def _list(self, p):
+        built = self._built_for
+        if (built is None or built[0] is not p.gid or built[1] != p.nlocal or built[2] != p.topology
+                or moved_beyond(p.n, p.x, self._x_ref, 0.5 * self.skin)):
+            self.pair_start, self.partners = build_pair_list(p.nlocal, p.n, p.gid, p.x, p.radius, p.bond_j, self.skin)
+            self._x_ref = p.x.copy()
+            self._built_for = (p.gid, p.nlocal, p.topology)
+            self.builds += 1
+        return self.pair_start, self.partners
 
     def add_forces(self, p, c, dt):
+        start, partners = self._list(p)
         c.contacts, c.contact_energy, self.crushing = contact_forces(
-            p.nlocal, p.n, p.gid, p.x, p.v, p.w, p.radius, p.mass, p.cell_area, p.half_height, p.bond_j,
-            p.contact_gid, p.contact_stamp, p.contact_hist, self.law, dt, c.step, self.cell_size, p.force, p.torque)
+            p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.mass, p.cell_area, p.half_height, start, partners,
+            p.contact_gid, p.contact_stamp, p.contact_hist, self.law, dt, c.step, p.force, p.torque)

@@ -1,19 +1,20 @@
 """Stable time step of the explicit integrator.
 
-Velocity Verlet on a linear system is stable when dt < 2 / omega_max, omega_max^2 the largest
-eigenvalue of K v = omega^2 M v. For a lattice of identical elements that eigenvalue is a property
-of the lattice, so we compute it exactly on a small periodic patch of the same packing: every
+The limit is computed exactly for pice's step (velocity Verlet, rate terms at the half-step
+velocity) on the infinite lattice of the sheet's elements, by Bloch waves
+(physics/lattice_modes.py): the largest dt for which no mode of the linearised lattice grows. Every
 neighbour link carries the stiffer of the bond and the contact springs in each direction (normal
-k_n, shear k_s at the contact point, twisting and bending), so the limit also holds once bonds
-have broken and contacts have taken their place. A wall adds at most k_wall/m (Weyl's inequality).
-Dashpots shrink the limit: with damping rates up to c_max (the largest eigenvalue of M^-1 C, C the
-bond dashpots assembled like K) the step is stable when omega_max^2 dt^2 / 4 + c_max dt / 2 < 1, i.e.
-for zeta = c_max / (2 omega_max). The bond dashpots are set at ``damping_ratio`` of critical for one
-bond between two free elements, so the lattice's highest modes see a zeta several times larger.
+k_n, shear k_s at the contact point, twisting and bending) and the stronger of their dashpots, so
+the limit also holds once bonds have broken and contacts have taken their place. A structure
+(walls, hulls, the far-field springs) adds a link to a fixed surface on every element, with its
+normal and tangential springs and its normal dashpot.
 
-dt_stable = 2 / omega_max * (sqrt(1 + zeta^2) - zeta); `dt = "auto"` uses ``run.dt_safety``
-(default 0.5) of it. Assumption: no element gains more contacts than it had lattice neighbours
-(rafting piles can; the health check stops such a run with a diagnostic).
+Without dashpots the limit is 2 / omega_max. Dashpots lower it: for one mode the step is stable
+when omega^2 dt^2 / 4 + c dt / 2 < 1; in the lattice the stiffest modes (rotation on tangential
+springs) are not the most damped (translation on normal dashpots), and the exact limit lies
+20-25 % above the bound that takes the two together. `dt = "auto"` uses ``run.dt_safety`` (default
+0.5) of it. Assumption: no element gains more contacts than it had lattice neighbours (rafting
+piles can; the health check stops such a run with a diagnostic).
 """
 
 from __future__ import annotations
@@ -50,71 +51,39 @@ def link_stiffness_matrix(n, ca, cb, kn, ks, kt, kb) -> np.ndarray:
     return (b_delta.T @ (kn * nn + ks * tang) @ b_delta) + (b_theta.T @ (kt * nn + kb * tang) @ b_theta)
 
 
-def lattice_omega_max(*, n_layers: int, d: float, mass: float, inertia: float, kn: float, ks: float,
-                      kt: float, kb: float, cells: int = 12) -> float:
-    """Largest angular frequency [rad/s] of an infinite HCP lattice with one spring set per link.
-
-    Assembled on a periodic cells x cells patch (even, so the zone-boundary modes are sampled).
-    """
-    from scipy.linalg import eigh
-    from scipy.spatial import cKDTree
-
-    from ..scenes.level_ice import ROW_SPACING, hcp_positions
-
-    lx, ly = cells * d, cells * ROW_SPACING * d
-    x = hcp_positions(length=lx + 0.25 * d, width=ly + 0.25 * d, d=d, n_layers=n_layers)
-    x = x[(x[:, 0] < lx + 1e-9) & (x[:, 1] < ly + 1e-9)]
-    x[:, :2] -= x[:, :2].min(axis=0)
-    box = np.array([lx, ly, 1e6])
-    tree = cKDTree(np.mod(x, box), boxsize=box)
-    pairs = tree.query_pairs(d * (1 + 1e-6), output_type="ndarray")
-    ndof = 6 * len(x)
-    K = np.zeros((ndof, ndof))
-    for a, b in pairs:
-        dvec = x[b] - x[a]
-        dvec[:2] -= box[:2] * np.round(dvec[:2] / box[:2])  # minimum image
-        n = dvec / np.linalg.norm(dvec)
-        k = link_stiffness_matrix(n, 0.5 * d, 0.5 * d, kn, ks, kt, kb)
-        idx = np.r_[6 * a:6 * a + 6, 6 * b:6 * b + 6]
-        K[np.ix_(idx, idx)] += k
-    m = np.tile(np.r_[np.full(3, mass), np.full(3, inertia)], len(x))
-    scale = 1.0 / np.sqrt(m)
-    lam = eigh(K * scale[:, None] * scale[None, :], eigvals_only=True,
-               subset_by_index=[ndof - 1, ndof - 1])[0]
-    return math.sqrt(max(lam, 0.0))
-
-
 def stable_step(*, mass: float, inertia: float, d: float, n_layers: int, bond, contact,
-                wall_stiffness: float = 0.0, damping_ratio: float = 0.0,
+                structure=None, damping_ratio: float = 0.0,
                 contact_damping_ratio: float = 0.0) -> tuple[float, str]:
     """Stability limit [s] of the lattice with, per link, the stiffer of bond and contact springs
-    and the stronger of their dashpots.
+    and the stronger of their dashpots, computed exactly for the step (physics/lattice_modes.py).
 
     bond: (k_n, k_s, k_twist, k_bend); contact: (k_n, k_t); damping ratios of the bond dashpots and
-    of the contact's normal dashpot (from its restitution). Returns (limit, what governs it).
+    of the contact's normal dashpot (from its restitution). structure: None, or (k_n, k_t [N/m], c_n
+    [N s/m]) of the stiffest link of an element to a structure (walls, hulls, far-field springs),
+    put on every element. Returns (limit, what governs it).
     """
+    from .lattice_modes import exact_limit
+
     kn = max(bond[0], contact[0])
     ks = max(bond[1], contact[1])
-    omega = lattice_omega_max(n_layers=n_layers, d=d, mass=mass, inertia=inertia, kn=kn, ks=ks,
-                              kt=bond[2], kb=bond[3])
-    omega = math.sqrt(omega ** 2 + wall_stiffness / mass)
-    zeta = 0.0
-    if damping_ratio > 0.0 or contact_damping_ratio > 0.0:
-        # the bond dashpots of BondParams.as_array and the contact's normal dashpot (kernels.contacts),
-        # assembled like the springs
-        z, m_red, i_red = damping_ratio, 0.5 * mass, 0.5 * inertia
-        cn = max(2 * z * math.sqrt(m_red * bond[0]), 2 * contact_damping_ratio * math.sqrt(m_red * contact[0]))
-        c_max = lattice_omega_max(n_layers=n_layers, d=d, mass=mass, inertia=inertia,
-                                  kn=cn, ks=2 * z * math.sqrt(m_red * bond[1]),
-                                  kt=2 * z * math.sqrt(i_red * bond[2]), kb=2 * z * math.sqrt(i_red * bond[3])) ** 2
-        zeta = c_max / (2.0 * omega)
-    factor = math.sqrt(1.0 + zeta ** 2) - zeta
-    parts = []
-    parts.append("bond" if bond[0] >= contact[0] else "contact")
+    z, m_red, i_red = damping_ratio, 0.5 * mass, 0.5 * inertia
+    # the bond dashpots of BondParams.as_array and the contact's normal dashpot (kernels.contacts)
+    cn = max(2 * z * math.sqrt(m_red * bond[0]), 2 * contact_damping_ratio * math.sqrt(m_red * contact[0]))
+    dashpots = (cn, 2 * z * math.sqrt(m_red * bond[1]), 2 * z * math.sqrt(i_red * bond[2]),
+                2 * z * math.sqrt(i_red * bond[3]))
+    ground = None
+    if structure is not None and structure[0] > 0.0:
+        ground = ((structure[0], structure[1], 0.0, 0.0), (structure[2], 0.0, 0.0, 0.0))
+    limit, undamped = exact_limit(mass=mass, inertia=inertia, d=d, n_layers=n_layers,
+                                  springs=(kn, ks, bond[2], bond[3]), dashpots=dashpots, ground=ground)
+    parts = ["bond" if bond[0] >= contact[0] else "contact"]
     if ks > bond[1]:
         parts.append("contact tangential")
-    return 2.0 / omega * factor, (f"highest lattice mode of elements of {mass:.4g} kg with {' and '.join(parts)} "
-                                  f"springs (k_n {kn:.3g} N/m)")
+    if ground is not None:
+        parts.append("structure")
+    damped = f", dashpots: {limit / undamped:.3g} of the undamped {undamped:.4g} s" if limit < undamped else ""
+    return limit, (f"highest lattice mode of elements of {mass:.4g} kg with {' and '.join(parts)} "
+                   f"springs (k_n {kn:.3g} N/m){damped}")
 
 
 def choose_step(*, requested, safety: float, stable: float, governed_by: str, allow_unstable: bool,

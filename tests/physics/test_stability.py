@@ -4,10 +4,11 @@ Issue claim: "At 0.9 of the stability limit the run stays bounded; at 2x it is r
 explicit override it stops with the diagnostic, never with NaN in the output."
 
 Reference: velocity Verlet on a linear system is stable iff dt < 2 / omega_max, omega_max^2 the
-largest eigenvalue of M^-1 K (physics/timestep.py computes it on a periodic patch of the lattice,
-each link carrying the stiffer of the bond and contact springs and the stronger dashpot). The
+largest eigenvalue of M^-1 K (physics/timestep.py computes the limit of the infinite lattice by
+Bloch waves, each link carrying the stiffer of the bond and contact springs and the stronger
+dashpot; tests/physics/test_lattice_modes.py checks the damped case). The
 tests use contact springs no stiffer than the bonds and undamped contacts (restitution 1), so the
-limit is exactly the intact sheet's; with the default contact (tangential spring 0.5 k_n,
+limit is exactly the intact sheet's; with the default contact (tangential spring G/E = 0.385 k_n,
 restitution 0.3) the limit is deliberately lower, because contacts can replace broken bonds --
 test_default_contacts_lower_the_limit_safely checks that case. The tests use a small
 floating, bonded sheet (8 m x 6 m, E = 1 GPa, water and gravity on) disturbed by random velocities
@@ -116,15 +117,16 @@ def test_default_contacts_lower_the_limit_safely():
 
 
 def test_lattice_eigenvalue_matches_the_assembled_sheet():
-    """physics.timestep.lattice_omega_max (analytic link matrices on a periodic patch) against the
-    finite-difference stiffness of the real kernel on a finite sheet with bond springs only: the
-    free edges of the finite sheet can only lower omega_max a little (within 5 %)."""
-    from pice.physics.timestep import lattice_omega_max
+    """physics.lattice_modes.exact_limit's undamped limit 2 / omega_max (Bloch matrices of the infinite
+    lattice) against the finite-difference stiffness of the real kernel on a finite sheet with bond
+    springs only: the free edges of the finite sheet can only lower omega_max a little (within 5 %)."""
+    from pice.physics.lattice_modes import exact_limit
 
     sim = Simulation(_job())
     b, p = sim.bond, sim.p
-    omega = lattice_omega_max(n_layers=1, d=1.0, mass=float(p.mass[0]), inertia=float(p.inertia[0]),
-                              kn=b.kn, ks=b.ks, kt=b.kt, kb=b.kb)
+    _, undamped = exact_limit(mass=float(p.mass[0]), inertia=float(p.inertia[0]), d=1.0, n_layers=1,
+                              springs=(b.kn, b.ks, b.kt, b.kb), dashpots=(0.0, 0.0, 0.0, 0.0))
+    omega = 2.0 / undamped
     omega_sheet = 2.0 / _true_limit(sim)
     assert omega_sheet <= omega * (1 + 1e-6)
     assert omega_sheet >= 0.95 * omega

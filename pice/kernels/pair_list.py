@@ -1,0 +1,89 @@
+"""The contact candidates: a neighbour list with a skin (Verlet list), as mature particle codes keep.
+
+For every owned element i the list holds the unbonded elements j (owned with a higher gid, or
+ghosts) whose centres are nearer than r_i + r_j + skin, sorted by gid. The contact kernel then
+tests only these pairs, instead of scanning the 27 cells around every element every step. The list
+stays valid until some element has moved skin / 2 since it was built (two elements then cannot have
+closed the skin between them), a bond has broken (its pair becomes a candidate) or the rows were
+re-indexed (migration, ghosts rebuilt, elements removed): ``physics.contact.IceContactTerm``
+watches the three and rebuilds.
+
+Sorting each element's candidates by gid makes the order in which contacts add their forces a
+function of the state alone, not of the step at which the list was built: a run restarted from a
+checkpoint (which builds a fresh list) adds the same numbers in the same order as the run that went on.
+"""
+
+import numpy as np
+from numba import njit
+
+from . import JIT
+from .contacts import _bonded, _cell_index, build_cell_list
+
+
+@njit(**JIT)
+def _candidates(i, nlocal, gid, x, radius, bond_j, skin, origin, dims, start, order, size, out, m):
+    """Write i's candidates into out[m:], unsorted; return the new end."""
+    cx = _cell_index((x[i, 0] - origin[0]) / size, dims[0])
+    cy = _cell_index((x[i, 1] - origin[1]) / size, dims[1])
+    cz = _cell_index((x[i, 2] - origin[2]) / size, dims[2])
+    for z in range(max(cz - 1, 0), min(cz + 2, dims[2])):
+        for y in range(max(cy - 1, 0), min(cy + 2, dims[1])):
+            for xx in range(max(cx - 1, 0), min(cx + 2, dims[0])):
+                c = (z * dims[1] + y) * dims[0] + xx
+                for p in range(start[c], start[c + 1]):
+                    j = order[p]
+                    if j == i or (j < nlocal and gid[j] < gid[i]):
+                        continue  # listed from j's side
+                    d0 = x[j, 0] - x[i, 0]
+                    d1 = x[j, 1] - x[i, 1]
+                    d2 = x[j, 2] - x[i, 2]
+                    reach = radius[i] + radius[j] + skin
+                    if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach or _bonded(bond_j, i, j):
+                        continue
+                    if out is not None:
+                        out[m] = j
+                    m += 1
+    return m
+
+
+@njit(**JIT)
+def build_pair_list(nlocal, ntotal, gid, x, radius, bond_j, skin):
+    """(start (nlocal + 1,), partners (m,)) int64: owned i's candidates are partners[start[i]:start[i+1]],
+    each element j once per pair (from its lower-gid end when both are owned), in increasing gid.
+
+    skin [m]: the margin beyond contact; the cells are 2 r_max + skin wide.
+    """
+    rmax = 0.0
+    for i in range(ntotal):
+        if radius[i] > rmax:
+            rmax = radius[i]
+    origin, dims, cstart, order, size = build_cell_list(x, ntotal, 2.0 * rmax * 1.0001 + skin)
+    start = np.zeros(nlocal + 1, dtype=np.int64)
+    for i in range(nlocal):  # count, then fill
+        start[i + 1] = start[i] + _candidates(i, nlocal, gid, x, radius, bond_j, skin, origin, dims, cstart,
+                                              order, size, None, 0)
+    partners = np.empty(start[nlocal], dtype=np.int64)
+    for i in range(nlocal):
+        _candidates(i, nlocal, gid, x, radius, bond_j, skin, origin, dims, cstart, order, size, partners, start[i])
+        for a in range(start[i] + 1, start[i + 1]):  # insertion sort by gid: a few entries
+            j = partners[a]
+            b = a - 1
+            while b >= start[i] and gid[partners[b]] > gid[j]:
+                partners[b + 1] = partners[b]
+                b -= 1
+            partners[b + 1] = j
+    return start, partners
+
+
+@njit(**JIT)
+def moved_beyond(ntotal, x, x_ref, limit):
+    """True when some element of the first ntotal has moved more than ``limit`` [m] from x_ref
+    (or its position is not finite: the list is rebuilt, and the health check reports it)."""
+    lim2 = limit * limit
+    for i in range(ntotal):
+        d0 = x[i, 0] - x_ref[i, 0]
+        d1 = x[i, 1] - x_ref[i, 1]
+        d2 = x[i, 2] - x_ref[i, 2]
+        if not (d0 * d0 + d1 * d1 + d2 * d2 <= lim2):
+            return True
+    return False
