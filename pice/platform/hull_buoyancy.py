@@ -153,17 +153,28 @@ def submerged(vertices, triangles, braces, brace_slices: int = BRACE_SLICES, *, 
     vol, cob = submerged_volume(hull_in_space(vertices, position=position, attitude=attitude), triangles, level)
     if len(braces) == 0:
         return vol, cob
-    R = rotation_matrix(attitude)
     mom = vol * cob if vol > 0.0 else np.zeros(3)
-    for brace in braces:
-        vb, cb = brace_submerged(R @ brace["p0"] + position, R @ brace["p1"] + position, brace["radius"], level,
-                                 int(brace_slices))
-        if vb > 0.0:
-            vol += vb
-            mom = mom + vb * cb
+    vol, mom = _add_braces(vol, mom, braces, rotation_matrix(attitude), np.asarray(position, float), level,
+                           int(brace_slices))
     if vol <= 0.0:
         return 0.0, np.full(3, np.nan)
     return vol, mom / vol
+
+
+@njit(**JIT)
+def _add_braces(vol, mom, braces, R, position, level, slices):
+    """(volume [m^3], first moment (3,) [m^4]) of mesh and braces: each brace of the body frame placed
+    by R and position and sliced (``brace_submerged``), added to the mesh's vol and mom."""
+    mom = mom.copy()
+    for k in range(braces.shape[0]):
+        p0 = R @ braces[k].p0 + position
+        p1 = R @ braces[k].p1 + position
+        vb, cb = brace_submerged(p0, p1, braces[k].radius, level, slices)
+        if vb > 0.0:
+            vol += vb
+            for q in range(3):
+                mom[q] += vb * cb[q]
+    return vol, mom
 
 
 def buoyancy(vertices, triangles, braces, brace_slices: int = BRACE_SLICES, *, position, attitude, rho_w: float,
@@ -174,5 +185,6 @@ def buoyancy(vertices, triangles, braces, brace_slices: int = BRACE_SLICES, *, p
                          level=level)
     if vol <= 0.0:
         return np.zeros(3), np.zeros(3), 0.0
-    f = np.array([0.0, 0.0, rho_w * g * vol])
-    return f, np.cross(cob - position, f), vol
+    fz = rho_w * g * vol
+    arm = cob - position
+    return np.array([0.0, 0.0, fz]), np.array([arm[1] * fz, -arm[0] * fz, 0.0]), vol  # arm x (0, 0, fz)

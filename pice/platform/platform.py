@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kernels.geometry import rotation_matrix
+from .attachment_kernels import add_line_pull, fairlead_kinematics
 from .rigid_body import RigidBody
 
 
@@ -33,6 +33,14 @@ class MooringGroup:
 
     lines: object
     attachments: list[Attachment]
+
+    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(line (k,), body (k,), point (k, 3) [m]) of the attachments, for attachment_kernels."""
+        if getattr(self, "_arrays", None) is None or len(self._arrays[0]) != len(self.attachments):
+            self._arrays = (np.array([a.line for a in self.attachments], np.int64),
+                            np.array([a.body for a in self.attachments], np.int64),
+                            np.array([a.point for a in self.attachments], float).reshape(-1, 3))
+        return self._arrays
 
 
 def lines_pull(groups: list[MooringGroup], n_bodies: int) -> np.ndarray:
@@ -75,15 +83,17 @@ class Platform:
     # -- geometry ------------------------------------------------------------------------------
     def fairlead_positions(self, group: int = 0) -> tuple[np.ndarray, np.ndarray]:
         """(n_lines, 3) fairlead positions [m] and velocities [m/s] of one group from the bodies' poses."""
-        atts = self.groups[group].attachments if self.groups else []
-        n = len(atts)
-        x, v = np.zeros((n, 3)), np.zeros((n, 3))
-        for a in atts:
-            b = self.bodies[a.body]
-            arm = rotation_matrix(b.q) @ a.point
-            x[a.line] = b.x + arm
-            v[a.line] = b.v + np.cross(b.omega, arm)
-        return x, v
+        if not self.groups:
+            return np.zeros((0, 3)), np.zeros((0, 3))
+        line, body, point = self.groups[group].arrays()
+        x, v, q, omega = self._body_arrays()
+        return fairlead_kinematics(line, body, point, x, v, q, omega, len(line))
+
+    def _body_arrays(self):
+        """Every body's x, v, q, omega stacked: (n, 3), (n, 3), (n, 4), (n, 3)."""
+        bodies = self.bodies
+        return (np.array([b.x for b in bodies]), np.array([b.v for b in bodies]), np.array([b.q for b in bodies]),
+                np.array([b.omega for b in bodies]))
 
     def poses(self) -> np.ndarray:
         """(n_bodies, 13): x, q, v, omega of each body (what rank 0 broadcasts)."""
@@ -115,16 +125,19 @@ class Platform:
             f, m = b.hydro_loads(rho_w=self.rho_w, g=self.g, level=self.level, current=self.current)
             b.force = f + self.ice[k, :3]
             b.torque = m + self.ice[k, 3:]
+        n = len(self.bodies)
+        force = np.array([b.force for b in self.bodies], float).reshape(n, 3)
+        torque = np.array([b.torque for b in self.bodies], float).reshape(n, 3)
+        total = np.zeros((n, 3))
+        q = np.array([b.q for b in self.bodies], float).reshape(n, 4)
+        free = np.array([b.free for b in self.bodies], np.bool_)
         for grp in self.groups:
-            pull = grp.lines.reactions(grp.lines.fairleads)
-            for a in grp.attachments:
-                b = self.bodies[a.body]
-                if not b.free:
-                    continue
-                arm = rotation_matrix(b.q) @ a.point
-                b.force = b.force + pull[a.line]
-                b.torque = b.torque + np.cross(arm, pull[a.line])
-        self.mooring_force = lines_pull(self.groups, len(self.bodies))
+            line, body, point = grp.arrays()
+            add_line_pull(line, body, point, q, grp.lines.reactions(grp.lines.fairleads), free, force, torque, total)
+        for k, b in enumerate(self.bodies):
+            if b.free:
+                b.force, b.torque = force[k], torque[k]
+        self.mooring_force = total
 
     def energies(self) -> dict[str, float]:
         """Energies [J] of the bodies and the lines:
