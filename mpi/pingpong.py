@@ -77,14 +77,18 @@ def pice_calls(pcomm, comm, budget: float, ghosts: int) -> dict[str, list[float]
         if 0 <= r < size:
             counts[r] = 9 * ghosts
     send = np.random.default_rng(rank).random(int(counts.sum()))
+    sends = [(r, send[:n]) for r, n in enumerate(counts) if n]  # the same records to each neighbour
+    recvs = [(r, n) for r, n in enumerate(counts) if n]
     flags, loads, poses = np.zeros(3), np.zeros((1, 6)), np.zeros((1, 13))  # the full scene: one body
     calls = {"allreduce of a float (pickled: as Halo.needs_rebuild was, every step)": lambda: pcomm.max(1.0),
              "Allreduce of 3 doubles (Halo.needs_rebuild on a check, Simulation.check_health)":
                  lambda: pcomm.max(flags),
              "Reduce of 6 doubles (the loads of one body, full scene)": lambda: pcomm.reduce_sum(loads),
              "Bcast of 13 doubles (the pose of one body, full scene)": lambda: pcomm.bcast_array(poses),
-             f"ghost update, {ghosts} records of 72 B per neighbour (Halo.update)":
-                 lambda: pcomm.exchange_doubles(send, counts)}
+             f"ghost update, {ghosts} records of 72 B per neighbour, Alltoall + Alltoallv (before issue 12)":
+                 lambda: pcomm.exchange_doubles(send, counts),
+             f"ghost update, {ghosts} records of 72 B per neighbour, Isend/Irecv + Waitall (Halo.update)":
+                 lambda: pcomm.finish_neighbour_exchange(pcomm.start_neighbour_exchange(sends, recvs))}
     return {name: timed(fn, budget, comm, 50) for name, fn in calls.items()}
 
 

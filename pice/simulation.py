@@ -1,8 +1,9 @@
 """One rank's simulation: set-up from a job, and the step (DESIGN.md "The step").
 
 The step (velocity Verlet):
-    half kick with F(t);  drift x(t+dt);  exchange ghosts;  forces F(t+dt) from the force terms;
-    half kick.  Bond and contact increments use the half-step velocities, i.e. the exact
+    half kick with F(t);  drift x(t+dt);  post the ghost update;  the force terms on owned
+    elements only (water, walls, hulls, far-field springs) while it travels;  receive the ghosts;
+    bonds and contacts;  half kick.  Bond and contact increments use the half-step velocities, i.e. the exact
     displacement increment over the step.
 
 The forces come from a list of force terms built at set-up (``self.terms``), one object per piece of
@@ -130,6 +131,7 @@ class Simulation:
         self.bond_term = BondTerm(self.bond.kernel_law(mass=float(p.mass.min()), inertia=float(p.inertia.min())))
         self.ice_contact_term = IceContactTerm(self.contact_law, skin=CONTACT_SKIN * 2.0 * float(p.radius.max()))
         terms = [self.bond_term, self.ice_contact_term]
+        self.n_ghost_terms = len(terms)  # the first terms read ghosts; the rest act on owned elements only
         if self.walls is not None:
             terms.append(self.walls)
         water = water_from_job(job)
@@ -177,7 +179,10 @@ class Simulation:
         p = self.p
         p.force[:] = 0.0
         p.torque[:] = 0.0
-        for term in self.terms:
+        for term in self.terms[self.n_ghost_terms:]:  # owned elements only: the ghost update travels
+            term.add_forces(p, self.c, self.dt)
+        self.domain.finish_exchange(p)
+        for term in self.terms[:self.n_ghost_terms]:  # bonds and contacts read the ghosts
             term.add_forces(p, self.c, self.dt)
         if self.coupling is not None:
             self._reduce_loads()
@@ -271,7 +276,11 @@ class Simulation:
         p.force[:] = 0.0
         p.torque[:] = 0.0
         lap("integration")
-        for term in self.terms:
+        for term in self.terms[self.n_ghost_terms:]:
+            term.add_forces(p, self.c, self.dt)
+            lap(term_part(term))
+        self.domain.finish_exchange(p, self.timers)  # laps "waiting"
+        for term in self.terms[:self.n_ghost_terms]:
             term.add_forces(p, self.c, self.dt)
             lap(term_part(term))
         if self.coupling is not None:

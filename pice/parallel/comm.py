@@ -6,6 +6,8 @@ import os
 
 import numpy as np
 
+GHOST_TAG = 17  # the tag of the ghost update's point-to-point messages
+
 _LAUNCHER_VARS = ("PMI_SIZE", "PMI_RANK", "OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS")
 
 
@@ -53,6 +55,13 @@ class SerialComm:
 
     def exchange_doubles(self, sendbuf, sendcounts):
         return sendbuf.copy(), np.asarray(sendcounts)
+
+    def start_neighbour_exchange(self, sends, recvs):
+        """No other rank: nothing is sent; every receive is for this rank's own send."""
+        return [a.copy() for _, a in sends]
+
+    def finish_neighbour_exchange(self, pending):
+        return pending
 
     def barrier(self):
         """Nothing to wait for on one rank."""
@@ -134,6 +143,24 @@ class MPIComm:
         self.comm.Alltoallv([np.ascontiguousarray(sendbuf), (sendcounts, sdispl), D],
                             [recvbuf, (recvcounts, rdispl), D])
         return recvbuf, recvcounts
+
+    def start_neighbour_exchange(self, sends, recvs):
+        """Post non-blocking messages of float64: ``sends`` [(rank, array)], ``recvs`` [(rank, doubles)].
+
+        Returns the pending exchange for ``finish_neighbour_exchange`` (which keeps the send buffers
+        alive until they have gone). Only the ranks named exchange messages: no collective."""
+        D = self._MPI.DOUBLE
+        bufs = [np.empty(int(n)) for _, n in recvs]
+        reqs = [self.comm.Irecv([b, D], source=int(r), tag=GHOST_TAG) for (r, _), b in zip(recvs, bufs)]
+        sent = [np.ascontiguousarray(a) for _, a in sends]
+        reqs += [self.comm.Isend([a, D], dest=int(r), tag=GHOST_TAG) for (r, _), a in zip(sends, sent)]
+        return reqs, bufs, sent
+
+    def finish_neighbour_exchange(self, pending):
+        """Wait for a ``start_neighbour_exchange``; returns the received arrays, in ``recvs`` order."""
+        reqs, bufs, _ = pending
+        self._MPI.Request.Waitall(reqs)
+        return bufs
 
     def barrier(self):
         self.comm.Barrier()

@@ -3,7 +3,7 @@
 to ``Simulation(job, comm=...)``, so that the step calls exactly the functions it always calls.
 
 Each call is recorded under (kind, caller): the kind of collective (allreduce, reduce, bcast,
-exchange, alltoall, gather, scatter, barrier) and the qualified name of the pice function that
+exchange, wait, alltoall, gather, scatter, barrier) and the qualified name of the pice function that
 issued it (``Halo.update``, ``Halo.needs_rebuild``, ``Simulation.check_health``, ...). Per record:
 the calls, the point-to-point messages this rank sends (the exchange and the alltoalls: one per
 non-empty destination; a collective's own tree messages are not counted, see ``rounds``), the
@@ -108,6 +108,15 @@ class CountingComm:
         self._note("counts", 0, 8 * self.size)
         return self._call("exchange", nonempty, 8 * int(sum(counts[r] for r in others)),
                           self.inner.exchange_doubles, sendbuf, sendcounts)
+
+    def start_neighbour_exchange(self, sends, recvs):
+        """The ghost update: one message per named rank, 8 B a double (posted, not waited for)."""
+        return self._call("exchange", len(sends), sum(8 * int(np.asarray(a).size) for _, a in sends),
+                          self.inner.start_neighbour_exchange, sends, recvs)
+
+    def finish_neighbour_exchange(self, pending):
+        """The wait for the ghost update's messages (kind "wait": its time is the waiting)."""
+        return self._call("wait", 0, 0, self.inner.finish_neighbour_exchange, pending)
 
     def alltoall(self, objs):
         """Migration and ghost rebuild: mpi4py pickles one object per destination (None included)."""

@@ -66,7 +66,9 @@ class Domain:
         self.halo.rebuild(p)
 
     def exchange(self, p, step: int, timers=None) -> None:
-        """After the drift: rebalance on schedule, else rebuild the halo if needed, else update ghosts.
+        """After the drift: rebalance on schedule, else rebuild the halo if needed (both at once),
+        else post the ghost update, which ``finish_exchange`` receives: the forces on owned elements
+        that need no ghost are computed in between, while the messages travel.
 
         ``timers``: the timed step's StepTimers (pice/timers.py), charged "halo" for the exchange and
         "waiting" for the rebuild check's reduction; None in the plain step (no clock is read)."""
@@ -78,9 +80,16 @@ class Domain:
         if self.halo.needs_rebuild(p, timers):
             self.halo.rebuild(p)
         else:
-            self.halo.update(p)
+            self.halo.start_update(p)
         if timers is not None:
             timers.lap("halo")
+
+    def finish_exchange(self, p, timers=None) -> None:
+        """Receive the ghost update that ``exchange`` posted (a no-op when none is pending); the time
+        is charged "waiting"."""
+        self.halo.finish_update(p)
+        if timers is not None:
+            timers.lap("waiting")
 
     def rebalance(self, p, step: int) -> bool:
         """Move the cuts if max/mean particles per rank exceeds the threshold; True if it did (and rebuilt)."""

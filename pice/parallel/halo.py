@@ -80,6 +80,8 @@ class Halo:
         self.check_cap = CHECK_INTERVAL_CAP  # 1: check every step (as before the bound; tests compare)
         self.skip = 0  # exchanges left before the next rebuild check
         self.send_idx: list[np.ndarray] = [np.zeros(0, np.int64) for _ in range(comm.size)]
+        self.recv_counts: list[int] = [0] * comm.size  # ghosts from each rank, fixed between rebuilds
+        self._pending = None  # a ghost update posted and not yet received
         self.x_ref = None
 
     # -- infrequent: migration and ghost rebuild -----------------------------------------------
@@ -104,6 +106,7 @@ class Halo:
             self.send_idx = targets
             ghost_blocks = comm.alltoall([{k: v[idx] for k, v in merged.items()} if len(idx) else None
                                           for idx in targets])
+            self.recv_counts = [len(b["gid"]) if b is not None else 0 for b in ghost_blocks]
             ghost_blocks = [b for b in ghost_blocks if b is not None]
             p.replace_rows([merged] + ghost_blocks, nlocal)
         self.resolve(p)
@@ -162,15 +165,39 @@ class Halo:
         return False
 
     def update(self, p) -> None:
-        """Send the current x, v, w of every ghost to the ranks that hold it."""
+        """Send the current x, v, w of every ghost to the ranks that hold it, and receive ours."""
+        self.start_update(p)
+        self.finish_update(p)
+
+    def start_update(self, p) -> None:
+        """Post the ghost update: one message to each rank that holds ghosts of ours and one receive
+        from each rank whose ghosts we hold (the counts are known since the rebuild: no collective).
+        Work on owned elements may go on until ``finish_update``."""
         if self.comm.size == 1:
             return
-        counts = np.array([len(i) for i in self.send_idx], np.int64)
-        idx = np.concatenate(self.send_idx) if counts.sum() else np.zeros(0, np.int64)
+        counts = [len(i) for i in self.send_idx]
+        idx = np.concatenate(self.send_idx) if sum(counts) else np.zeros(0, np.int64)
         buf = np.empty(GHOST_DOUBLES * len(idx))
         pack_kinematics(p.x, p.v, p.w, idx, buf)
-        recv, _ = self.comm.exchange_doubles(buf, GHOST_DOUBLES * counts)
-        unpack_kinematics(recv, p.x, p.v, p.w, p.nlocal)
+        sends, start = [], 0
+        for r, n in enumerate(counts):
+            if n:
+                sends.append((r, buf[start:start + GHOST_DOUBLES * n]))
+                start += GHOST_DOUBLES * n
+        recvs = [(r, GHOST_DOUBLES * n) for r, n in enumerate(self.recv_counts) if n]
+        self._pending = self.comm.start_neighbour_exchange(sends, recvs)
+
+    def finish_update(self, p) -> None:
+        """Receive the ghost update posted by ``start_update`` (nothing when none is pending); ghosts
+        are stored by source rank, as the rebuild laid them out."""
+        if self._pending is None:
+            return
+        bufs = self.comm.finish_neighbour_exchange(self._pending)
+        self._pending = None
+        start = p.nlocal
+        for b in bufs:
+            unpack_kinematics(b, p.x, p.v, p.w, start)
+            start += len(b) // GHOST_DOUBLES
 
     def local_longest_bond(self, p) -> float:
         """Length [m] of this rank's longest intact bond (0 on one rank, where nothing can be lost).

@@ -28,8 +28,10 @@ def test_counts_the_ghost_update_and_changes_nothing():
     assert counted.p.n == n and counted.p.nlocal == plain.p.nlocal
     assert np.array_equal(plain.p.x[:n], counted.p.x[:n]) and np.array_equal(plain.p.w[:n], counted.p.w[:n])
     rows = {(r["kind"], r["caller"]): r for r in counting.table()}
-    update = rows[("exchange", "Halo.update")]
+    update = rows[("exchange", "Halo.start_update")]
     sent = sum(len(i) for i in counted.domain.halo.send_idx)
     assert sent > 0 and update["calls"] == STEPS  # the sheet moves 6 mm: no rebuild in 6 steps
     assert update["messages"] == STEPS and update["bytes"] == STEPS * 8 * GHOST_DOUBLES * sent
+    assert rows[("wait", "Halo.finish_update")]["calls"] == STEPS
+    assert not any(kind == "counts" for kind, _ in rows)  # the counts are known since the rebuild
     assert rows[("allreduce", "Halo.needs_rebuild")]["calls"] == 1  # a check, then the motion bound skips the rest
