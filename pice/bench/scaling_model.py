@@ -9,10 +9,11 @@ square as P allows (parallel/decomposition.py: a prime P gives slabs); each rank
 the particles within the ghost width of its rectangle (parallel/halo.py), 9 doubles each every step;
 one rank owns no particle twice. Per step on P > 1 ranks (counted by mpi/comm_volume.py):
 
-* the ghost update: an Alltoall of P counts, then one message to each neighbour (Halo.update);
-* the rebuild check: an allreduce of a Python float, pickled, i.e. mpi4py's reduce and broadcast
-  trees, 2 log2 P rounds (Halo.needs_rebuild);
-* every ``check_every`` steps, the health check's Allreduce and the bond lengths' pickled allreduce;
+* the ghost update: one message to and from each neighbour, point to point, the counts known since
+  the rebuild (Halo.start_update, Halo.finish_update);
+* every ``motion_check_every`` steps the rebuild check's Allreduce of 3 doubles (Halo.needs_rebuild:
+  the motion bound skips the steps in between);
+* every ``check_every`` steps, the health check's Allreduce of 3 doubles;
 * with bodies, the poses' Bcast and the loads' Reduce (log2 P rounds each), and rank 0's platform
   and lines, which every other rank waits for (an Amdahl term: it does not shrink with P);
 * every ``rebuild_every`` steps a migration and ghost rebuild: two pickled alltoalls (P - 1
@@ -93,6 +94,7 @@ class Scene:
     d: float = 1.0           # [m] element diameter
     ghost_width: float = 1.3685  # [m] (parallel/domain.ghost_width: bond at break + skin; 92k sheet)
     rebuild_every: float = 160.0  # [steps] skin / 2 over the distance a step moves the ice
+    motion_check_every: float = 17.9  # [steps] between rebuild checks (sheet: 27 checks in 3 x 161 steps)
     check_every: int = 10    # [steps] the health check
     bodies: int = 0          # bodies (poses broadcast, loads reduced every step)
     platform: float = 0.0    # [s] rank 0's platform and lines per step
@@ -106,8 +108,8 @@ class Scene:
 #: the 92k benchmark sheet (pice/bench/sheet.py): dt 9.35e-4 s at 1 m/s -> a rebuild each 160 steps
 SHEET = Scene("92k sheet", 400.0, 200.0)
 #: the full reference scene: dt 1.46e-4 s -> 1,027 steps a rebuild; one body, 12 lines on rank 0
-FULL = Scene("full scene", 400.0, 200.0, ghost_width=1.3006, rebuild_every=1027.0, check_every=50, bodies=1,
-             platform=1.7e-3)
+FULL = Scene("full scene", 400.0, 200.0, ghost_width=1.3006, rebuild_every=1027.0, motion_check_every=37.0,
+             check_every=50, bodies=1, platform=1.7e-3)
 
 
 def square_grid(p: int) -> tuple[int, int]:
@@ -171,9 +173,8 @@ def step_terms(scene: Scene, p: int, c: Costs = Costs()) -> dict:
         lg = log2_rounds(p)
         k = neighbours(scene, px, py)
         t["halo"] = k * c.latency + GHOST_BYTES * gmax / c.bandwidth + 2 * c.call
-        coll = collective(c, 2 * lg, pickled=True)                                # Halo.needs_rebuild
-        coll += collective(c, lg, nbytes=8 * p / 2)                               # Alltoall of counts (Bruck)
-        coll += (collective(c, lg) + collective(c, 2 * lg, pickled=True)) / scene.check_every  # health check
+        coll = collective(c, lg) / scene.motion_check_every                     # Halo.needs_rebuild
+        coll += collective(c, lg) / scene.check_every                            # health check
         if scene.bodies:
             coll += 2 * collective(c, lg)                                         # poses Bcast, loads Reduce
         t["collectives"] = coll
