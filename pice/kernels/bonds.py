@@ -12,8 +12,10 @@ the section of the bond: area, inertia, polar [m^2, m^4, m^4] and the fibre dist
 twist_fiber [m] (a disk: both its radius R); normal_strength, shear_strength, compressive_strength
 [Pa], friction (mu), shear_law; dashpots cn, cs [N s/m], ct, cb [N m s/rad].
 
-Failure modes are the named constants below; ``failure_mode`` is the one place that decides. The
-stresses on the bond's section (Eqs. 3-4 of Zhu & Ji 2022, tension positive):
+Failure modes are the named constants below; ``failure_mode`` states the criteria and
+``failure_mode_squared``, which the kernel calls, decides by the same criteria on squared magnitudes
+(tests/unit/test_bond_kernel.py checks that the two agree). The stresses on the bond's section
+(Eqs. 3-4 of Zhu & Ji 2022, tension positive):
 
     sigma_n = T / A,   sigma_b = |M_b| c_b / I,   tau = |F_s| / A + |M_t| c_t / J
 
@@ -62,35 +64,62 @@ def failure_mode(sigma_n, sigma_b, tau, law):
 
 
 @njit(**JIT, inline="always")
-def _project_keep_magnitude(h, i, s, o, n0, n1, n2):
-    """Remove the component of h[i, s, o:o+3] along unit n and restore its length (rotates history)."""
-    a0, a1, a2 = h[i, s, o], h[i, s, o + 1], h[i, s, o + 2]
+def failure_mode_squared(sigma_n, mb2, fs2, mt_abs, law):
+    """``failure_mode`` from the squared magnitudes of the bending moment mb2 [N^2 m^2] and the shear
+    force fs2 [N^2], and |M_t| [N m]: the same criteria compared without the two square roots where
+    the shear law allows (Mohr-Coulomb), for the bonds that stay intact (nearly all of them)."""
+    bend = law.bend_fiber / law.inertia          # sigma_b = |M_b| bend [Pa]
+    reserve = law.normal_strength - sigma_n     # tension + bending: sigma_b >= reserve
+    if reserve <= 0.0 or mb2 * bend * bend >= reserve * reserve:
+        return TENSION_BENDING
+    reserve = law.compressive_strength + sigma_n  # compression + bending: sigma_b >= reserve
+    if reserve <= 0.0 or mb2 * bend * bend >= reserve * reserve:
+        return COMPRESSION
+    twist = mt_abs * law.twist_fiber / law.polar
+    if law.shear_law == MOHR_COULOMB:
+        tau_c = law.shear_strength - law.friction * sigma_n
+    else:
+        tau_c = law.friction * (sigma_n + math.sqrt(mb2) * bend) + law.shear_strength
+    reserve = (tau_c - twist) * law.area          # shear + twist: |F_s| >= reserve
+    if reserve <= 0.0 or fs2 >= reserve * reserve:
+        return SHEAR_TWIST
+    return INTACT
+
+
+@njit(**JIT, inline="always")
+def _turned(a0, a1, a2, n0, n1, n2):
+    """a less its component along unit n, rescaled to its former length: a history vector turned
+    with the bond into the plane normal to n. The scale is 1 / sqrt(1 - x), x = (a.n)^2 / |a|^2; a
+    bond turns little in a step, and for x < 1e-6 its series 1 + x/2 + 3x^2/8 is exact to round-off
+    (the next term, 5x^3/16, is below 1e-18) and saves a division and a square root."""
     mag2 = a0 * a0 + a1 * a1 + a2 * a2
-    if mag2 == 0.0:
-        return
     d = a0 * n0 + a1 * n1 + a2 * n2
     a0 -= d * n0
     a1 -= d * n1
     a2 -= d * n2
-    new2 = a0 * a0 + a1 * a1 + a2 * a2
-    sc = math.sqrt(mag2 / new2) if new2 > 0.0 else 0.0
-    h[i, s, o], h[i, s, o + 1], h[i, s, o + 2] = a0 * sc, a1 * sc, a2 * sc
+    dd = d * d
+    if dd < 1e-6 * mag2:  # the bond turned little: 1/sqrt(1 - x) to third order in x = d^2/|a|^2
+        x = dd / mag2
+        sc = 1.0 + x * (0.5 + 0.375 * x)
+    else:
+        new2 = a0 * a0 + a1 * a1 + a2 * a2
+        sc = math.sqrt(mag2 / new2) if new2 > 0.0 else 0.0
+    return a0 * sc, a1 * sc, a2 * sc
 
 
 @njit(**JIT, inline="always")
 def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
     """Advance the history H[i, s, :] (8,: shear force (3), twisting moment, bending moment (3), tension,
     canonical orientation) of the bond between a (the lower-gid end) and b by one step; return
-    (mode, force on a (3), moment on a (3), moment on b (3)): the failure mode (INTACT,
-    a failure mode; all zeros with a failure) and the loads [N], [N m] (b receives
-    the opposite force)."""
-    kn, ks, kt, kb = law.kn, law.ks, law.kt, law.kb
-    A, I, J = law.area, law.inertia, law.polar
+    (mode, force on a (3), moment on a (3), moment on b (3)) as plain floats: the failure mode
+    (INTACT, or a failure mode with all loads zero) and the loads [N], [N m] (b receives the opposite
+    force). The history is read once and written once."""
     dx0 = x[b, 0] - x[a, 0]
     dx1 = x[b, 1] - x[a, 1]
     dx2 = x[b, 2] - x[a, 2]
     L = math.sqrt(dx0 * dx0 + dx1 * dx1 + dx2 * dx2)
-    n0, n1, n2 = dx0 / L, dx1 / L, dx2 / L
+    inv_L = 1.0 / L
+    n0, n1, n2 = dx0 * inv_L, dx1 * inv_L, dx2 * inv_L
     ca = radius[a] + 0.5 * (L - radius[a] - radius[b])  # centre of a -> contact point [m]
     cb = L - ca
     wa0, wa1, wa2 = w[a, 0], w[a, 1], w[a, 2]
@@ -104,32 +133,32 @@ def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
     wr0, wr1, wr2 = wb0 - wa0, wb1 - wa1, wb2 - wa2
     wn = wr0 * n0 + wr1 * n1 + wr2 * n2
     ws0, ws1, ws2 = wr0 - wn * n0, wr1 - wn * n1, wr2 - wn * n2
-    _project_keep_magnitude(H, i, s, 0, n0, n1, n2)
-    _project_keep_magnitude(H, i, s, 4, n0, n1, n2)
+    h0, h1, h2 = _turned(H[i, s, 0], H[i, s, 1], H[i, s, 2], n0, n1, n2)
+    h4, h5, h6 = _turned(H[i, s, 4], H[i, s, 5], H[i, s, 6], n0, n1, n2)
     # Eqs. 1-2: incremental shear force, twisting and bending moments on a
-    fs0 = H[i, s, 0] + ks * vs0 * dt
-    fs1 = H[i, s, 1] + ks * vs1 * dt
-    fs2 = H[i, s, 2] + ks * vs2 * dt
-    mt = H[i, s, 3] + kt * wn * dt
-    mb0 = H[i, s, 4] + kb * ws0 * dt
-    mb1 = H[i, s, 5] + kb * ws1 * dt
-    mb2 = H[i, s, 6] + kb * ws2 * dt
-    tension = kn * (L - L0)  # normal force, the integral of Eq. 1 [N]
+    ksdt, kbdt = law.ks * dt, law.kb * dt
+    fs0 = h0 + ksdt * vs0
+    fs1 = h1 + ksdt * vs1
+    fs2 = h2 + ksdt * vs2
+    mt = H[i, s, 3] + law.kt * dt * wn
+    mb0 = h4 + kbdt * ws0
+    mb1 = h5 + kbdt * ws1
+    mb2 = h6 + kbdt * ws2
+    tension = law.kn * (L - L0)  # normal force, the integral of Eq. 1 [N]
     H[i, s, 0], H[i, s, 1], H[i, s, 2], H[i, s, 3] = fs0, fs1, fs2, mt
     H[i, s, 4], H[i, s, 5], H[i, s, 6], H[i, s, 7] = mb0, mb1, mb2, tension
-    fs_mag = math.sqrt(fs0 * fs0 + fs1 * fs1 + fs2 * fs2)
-    mb_mag = math.sqrt(mb0 * mb0 + mb1 * mb1 + mb2 * mb2)
-    tau = fs_mag / A + abs(mt) * law.twist_fiber / J            # Eq. 4 [Pa]
-    mode = failure_mode(tension / A, mb_mag * law.bend_fiber / I, tau, law)  # Eqs. 3, 5
+    mode = failure_mode_squared(tension / law.area, mb0 * mb0 + mb1 * mb1 + mb2 * mb2,
+                                fs0 * fs0 + fs1 * fs1 + fs2 * fs2, abs(mt), law)  # Eqs. 3-5
     if mode != INTACT:
         return (mode, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    cn, cs, ct, cbd = law.cn, law.cs, law.ct, law.cb
-    fn = tension + cn * vn
+    fn = tension + law.cn * vn
+    cs = law.cs
     fa0 = fn * n0 + fs0 + cs * vs0
     fa1 = fn * n1 + fs1 + cs * vs1
     fa2 = fn * n2 + fs2 + cs * vs2
     # the bond's own moments on a, plus the moment of the force about each centre
-    mtot = mt + ct * wn
+    mtot = mt + law.ct * wn
+    cbd = law.cb
     own0 = mtot * n0 + mb0 + cbd * ws0
     own1 = mtot * n1 + mb1 + cbd * ws1
     own2 = mtot * n2 + mb2 + cbd * ws2

@@ -15,7 +15,7 @@ import pytest
 
 from pice.job import parse_job
 from pice.kernels.bonds import bond_forces, sync_mate_history
-from pice.kernels.bonds import MOHR_COULOMB
+from pice.kernels.bonds import MOHR_COULOMB, ZHU_JI_EQ5
 from pice.physics.bond import BondLaw
 from pice.physics.bond_calibration import bond_params_from_job, eq6_bond_strength, eq7_bond_friction
 from pice.state import BOND_HIST, MAX_BONDS
@@ -194,3 +194,48 @@ def test_plate_calibrated_strength_is_the_flexural_strength_over_one_minus_nu():
     assert b.calibration == "plate"
     assert b.normal_strength == pytest.approx(0.5e6 / 0.7, rel=1e-12)
     assert b.friction == pytest.approx(0.42, rel=1e-12)
+
+
+@pytest.mark.parametrize("shear_law", [MOHR_COULOMB, ZHU_JI_EQ5])
+def test_squared_criteria_decide_as_the_stated_ones(shear_law):
+    """failure_mode_squared (the kernel's) against failure_mode (the criteria as the module states
+    them, with the square roots) on 20,000 random stress states around the strengths, compressive
+    cap included. Reference: the two are the same inequalities; states within 1e-9 of a threshold,
+    where round-off may decide either way, are skipped (none in practice)."""
+    from pice.kernels.bonds import failure_mode, failure_mode_squared
+
+    rng = np.random.default_rng(11)
+    law = _kernel_params()._replace(normal_strength=0.8e6, shear_strength=0.7e6, compressive_strength=2.0e6,
+                                    shear_law=shear_law)
+    A, cb, ct = law.area, law.bend_fiber / law.inertia, law.twist_fiber / law.polar
+    agree = 0
+    modes = set()
+    for _ in range(20_000):
+        sigma_n = rng.normal(0.0, 1.0e6)
+        mb, fs, mt = (abs(rng.normal(0.0, s)) for s in (0.6e6 / cb, 0.5e6 * A, 0.3e6 / ct))
+        sigma_b, tau = mb * cb, fs / A + mt * ct
+        margins = [law.normal_strength - sigma_n - sigma_b, law.compressive_strength - sigma_b + sigma_n]
+        if min(abs(m) for m in margins) < 1e-9 * law.normal_strength:
+            continue
+        expected = failure_mode(sigma_n, sigma_b, tau, law)
+        assert failure_mode_squared(sigma_n, mb * mb, fs * fs, mt, law) == expected
+        modes.add(expected)
+        agree += 1
+    assert agree > 19_000 and modes == {0, 1, 2, 3}  # every outcome was exercised
+
+
+def test_turned_history_keeps_its_length_and_leaves_the_plane():
+    """_turned: the history loses its component along n and keeps its length, to round-off, on both of
+    its branches (the series for a small turn, the exact square root for a large one)."""
+    from pice.kernels.bonds import _turned
+
+    rng = np.random.default_rng(5)
+    for tilt in (1e-6, 1e-4, 1e-3, 0.3):  # x = tilt^2 either side of the 1e-6 switch
+        for _ in range(200):
+            n = rng.normal(size=3)
+            n /= np.linalg.norm(n)
+            t = np.cross(n, rng.normal(size=3))
+            a = (t / np.linalg.norm(t) + tilt * n) * rng.uniform(1e2, 1e6)
+            b = np.array(_turned(*a, *n))
+            assert abs(b @ n) <= 1e-12 * np.linalg.norm(a)
+            assert np.linalg.norm(b) == pytest.approx(np.linalg.norm(a), rel=4e-16 * 8)
