@@ -53,12 +53,17 @@ def test_cone_mesh_is_closed_outward_and_centred():
     np.testing.assert_allclose(centre[:2], 0.0, atol=1e-9)  # on the axis
 
 
-def _run(tmp_path, h: float):
+def _run(tmp_path, h: float, seed: int | None = None):
+    """One cone run; with a ``seed``, the elements' initial velocities are perturbed by 1e-9 m/s (a
+    round-off-sized change, to sample the spread of a fracture record's statistics)."""
     mesh = tmp_path / f"cone_{h}.stl"
     centre = write_cone_mesh(mesh, **GEOMETRY)
     job = parse_job(cone_job(mesh, centre, diameter=GEOMETRY["diameter"], angle_deg=GEOMETRY["angle_deg"],
                              thickness=h, element_diameter=2.0, duration=15.0, length=30.0), source="cone")
-    rec = measure_cone_load(Simulation(job), near=0.5 * GEOMETRY["diameter"] + 3.0)
+    sim = Simulation(job)
+    if seed is not None:
+        sim.p.v[:sim.p.nlocal] += np.random.default_rng(seed).normal(0.0, 1e-9, (sim.p.nlocal, 3))
+    rec = measure_cone_load(sim, near=0.5 * GEOMETRY["diameter"] + 3.0)
     return rec, summarize(rec, start=2.0)
 
 
@@ -67,17 +72,26 @@ def test_cone_load_between_croasdale_2d_and_3d_and_grows_with_thickness(tmp_path
     none crushed through: the premise of Croasdale's formula), the largest horizontal load lies
     between Croasdale's 2D and 3D loads (module docstring), and the mean and largest loads grow with
     the thickness at least as h^0.8 and at most as h^2 (Croasdale's own exponents: 1.25 for breaking
-    over a fixed width, 1.7 for the standard's 3D form here)."""
+    over a fixed width, 1.7 for the standard's 3D form here).
+
+    The largest load of one 15 s record is a single event: a change of round-off size moved it from
+    0.63 to 0.76 MN at h = 0.5 m (measured, when only the bond kernel's rounding changed), while the
+    mean moved 1 %. So each thickness runs three times with the initial velocities perturbed by
+    1e-9 m/s, and the median of the three peaks is compared (the means are averaged)."""
     out = {}
     for h in (0.5, 1.0):
-        rec, dem = _run(tmp_path, h)
+        runs = [_run(tmp_path, h, seed) for seed in (1, 2, 3)]
+        dem = {key: float(np.median([d[key] for _, d in runs])) for key in ("peak", "ride_up")}
+        dem["mean"] = float(np.mean([d["mean"] for _, d in runs]))
         iso = iso_loads(diameter=GEOMETRY["diameter"], angle_deg=GEOMETRY["angle_deg"], thickness=h,
                         ride_up=dem["ride_up"], above=GEOMETRY["above"])
-        print(f"\nh = {h} m: DEM mean {dem['mean'] / 1e6:.3f} MN, peak {dem['peak'] / 1e6:.3f} MN, ride-up "
-              f"{dem['ride_up']:.2f} m; Croasdale 2D {iso['croasdale_2d'] / 1e6:.3f}, 3D {iso['croasdale'] / 1e6:.3f} "
-              f"MN (peak/3D {dem['peak'] / iso['croasdale']:.2f}); breaks by mode {rec.modes.tolist()}; "
-              f"{rec.cpu:.0f} s cpu")
-        assert rec.modes[0] >= 0.9 * rec.modes.sum() > 0 and rec.modes[3] == 0
+        peaks = ", ".join(f"{d['peak'] / 1e6:.3f}" for _, d in runs)
+        print(f"\nh = {h} m: DEM mean {dem['mean'] / 1e6:.3f} MN, peaks {peaks} MN (median/3D "
+              f"{dem['peak'] / iso['croasdale']:.2f}), ride-up {dem['ride_up']:.2f} m; Croasdale 2D "
+              f"{iso['croasdale_2d'] / 1e6:.3f}, 3D {iso['croasdale'] / 1e6:.3f} MN; breaks by mode "
+              f"{runs[0][0].modes.tolist()}; {sum(r.cpu for r, _ in runs):.0f} s cpu")
+        for rec, _ in runs:
+            assert rec.modes[0] >= 0.9 * rec.modes.sum() > 0 and rec.modes[3] == 0
         assert iso["croasdale_2d"] < dem["peak"] < iso["croasdale"]
         out[h] = dem
     for key in ("mean", "peak"):
