@@ -37,24 +37,33 @@ def unpack_kinematics(buf, x, v, w, start):
 def resolve_bond_partners(gid, nlocal, bond_gid, bond_j):
     """bond_j[i, s] = local index of partner gid bond_gid[i, s] for owned i (searching owned + ghosts).
 
-    Returns (number of partners not found, an owned gid with a missing partner or -1, that partner).
+    A dense map over the span of the local gids (a rank's rows of the lattice: a few times its
+    element count) finds each partner in one lookup. Returns (number of partners not found, an
+    owned gid with a missing partner or -1, that partner).
     """
-    order = np.argsort(gid)
-    sorted_gid = gid[order]
+    n = gid.shape[0]
     missing = 0
     who = -1
     partner = -1
+    if n == 0:
+        return missing, who, partner
+    lo = gid[0]
+    hi = gid[0]
+    for i in range(n):
+        lo = min(lo, gid[i])
+        hi = max(hi, gid[i])
+    where = np.full(hi - lo + 1, -1, dtype=np.int64)
+    for i in range(n - 1, -1, -1):  # the first row of a gid wins, as a search of the sorted gids found it
+        where[gid[i] - lo] = i
     for i in range(nlocal):
         for s in range(bond_gid.shape[1]):
             g = bond_gid[i, s]
             if g < 0:
                 bond_j[i, s] = -1
                 continue
-            k = np.searchsorted(sorted_gid, g)
-            if k < len(sorted_gid) and sorted_gid[k] == g:
-                bond_j[i, s] = order[k]
-            else:
-                bond_j[i, s] = -1
+            k = where[g - lo] if lo <= g <= hi else -1
+            bond_j[i, s] = k
+            if k < 0:
                 missing += 1
                 who = gid[i]
                 partner = g

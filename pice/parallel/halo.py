@@ -92,15 +92,23 @@ class Halo:
             sync_mate_history(p.nlocal, p.gid, p.bond_j, p.bond_mate, p.bond_hist)
             n = p.nlocal
             owner = self.decomp.owner(p.x[:n, 0], p.x[:n, 1])
-            stay = p.rows(np.nonzero(owner == comm.rank)[0])  # kept in place, not sent to ourselves
-            outgoing = [p.rows(np.nonzero(owner == r)[0]) if r != comm.rank else None
+            mine = owner == comm.rank
+            leaving = not mine.all()
+            # kept in place, not sent to ourselves (views of the owned rows when nobody leaves)
+            stay = p.rows(np.nonzero(mine)[0]) if leaving else p.rows(slice(0, n))
+            outgoing = [p.rows(np.nonzero(owner == r)[0]) if r != comm.rank and leaving else None
                         for r in range(comm.size)]
             incoming = comm.alltoall(outgoing)
-            local = [stay] + [blk for r, blk in enumerate(incoming) if r != comm.rank and len(blk["gid"])]
-            # owned particles in gid order: the layout is then the same whatever the history
-            merged = {k: np.concatenate([blk[k] for blk in local]) for k in local[0]}
+            local = [stay] + [blk for r, blk in enumerate(incoming)
+                              if r != comm.rank and blk is not None and len(blk["gid"])]
+            # owned particles in gid order: the layout is then the same whatever the history (rows
+            # already in order, nobody arriving, are kept as they are: no copy, no reorder)
+            merged = stay
+            if len(local) > 1:
+                merged = {k: np.concatenate([blk[k] for blk in local]) for k in local[0]}
             order = np.argsort(merged["gid"], kind="stable")
-            merged = {k: v[order] for k, v in merged.items()}
+            if len(local) > 1 or np.any(order != np.arange(len(order))):
+                merged = {k: v[order] for k, v in merged.items()}
             nlocal = len(merged["gid"])
             targets = self._ghost_targets(merged["x"])
             self.send_idx = targets
