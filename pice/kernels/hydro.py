@@ -103,3 +103,12 @@ def hydro_forces(nlocal, x, v, radius, mass, cell_area, half_height, g, water, h
             force[i, 1] += c * ur1
         if heave_c[i] > 0.0:
             force[i, 2] -= heave_c[i] * v[i, 2]
+
+
+@njit(**JIT)
+def buoyancy_energy(nlocal, x, radius, cell_area, half_height, level, rho_w, g):
+    """Sum of ``buoyancy_potential`` [J] over the first nlocal elements."""
+    e = 0.0
+    for i in range(nlocal):
+        e += buoyancy_potential(x[i, 2], radius[i], cell_area[i], half_height[i], level, rho_w, g)
+    return e

@@ -11,7 +11,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..kernels.hydro import buoyancy_potential, gravity_forces, hydro_forces, submerged
+from ..kernels.hydro import buoyancy_energy, gravity_forces, hydro_forces, submerged
 
 Water = namedtuple("Water", ["level", "density", "current_x", "current_y", "drag_coefficient",
                              "skin_drag_coefficient"])
@@ -77,5 +77,5 @@ class WaterTerm:
     def buoyancy_energy(self, p) -> float:
         """Potential energy of the buoyancy of the owned elements [J]."""
         w = self.water
-        return float(sum(buoyancy_potential(p.x[i, 2], p.radius[i], p.cell_area[i], p.half_height[i],
-                                            w.level, w.density, self.gravity) for i in range(p.nlocal)))
+        return float(buoyancy_energy(p.nlocal, p.x, p.radius, p.cell_area, p.half_height, w.level, w.density,
+                                     self.gravity))
