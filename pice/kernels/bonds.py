@@ -75,7 +75,7 @@ def failure_mode_squared(sigma_n, mb2, fs2, mt_abs, law):
     reserve = law.compressive_strength + sigma_n  # compression + bending: sigma_b >= reserve
     if reserve <= 0.0 or mb2 * bend * bend >= reserve * reserve:
         return COMPRESSION
-    twist = mt_abs * law.twist_fiber / law.polar
+    twist = mt_abs * (law.twist_fiber / law.polar)  # the factor is the same for every bond: hoisted
     if law.shear_law == MOHR_COULOMB:
         tau_c = law.shear_strength - law.friction * sigma_n
     else:
@@ -147,7 +147,7 @@ def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
     tension = law.kn * (L - L0)  # normal force, the integral of Eq. 1 [N]
     H[i, s, 0], H[i, s, 1], H[i, s, 2], H[i, s, 3] = fs0, fs1, fs2, mt
     H[i, s, 4], H[i, s, 5], H[i, s, 6], H[i, s, 7] = mb0, mb1, mb2, tension
-    mode = failure_mode_squared(tension / law.area, mb0 * mb0 + mb1 * mb1 + mb2 * mb2,
+    mode = failure_mode_squared(tension * (1.0 / law.area), mb0 * mb0 + mb1 * mb1 + mb2 * mb2,
                                 fs0 * fs0 + fs1 * fs1 + fs2 * fs2, abs(mt), law)  # Eqs. 3-5
     if mode != INTACT:
         return (mode, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
