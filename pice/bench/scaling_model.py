@@ -80,7 +80,7 @@ class Costs:
     ghost_fraction: float = 0.1   # a ghost's cost as a fraction of an owned particle's (assumed)
     rank_loop: float = 0.15e-6    # [s] per rank per step: Halo.update's lists over all P ranks (measured)
     target_scan: float = 5.1e-9   # [s] per owned particle per rank at a rebuild (_ghost_targets, measured)
-    rebuild_row: float = 2.2e-6   # [s] per owned particle per rebuild: rows sorted, copied (measured, below)
+    rebuild_row: float = 0.37e-6  # [s] per owned particle per rebuild: rows copied, bonds resolved (measured, below)
     sigma: float = 0.0            # relative jitter of a rank's step time [-]
 
 
@@ -107,9 +107,10 @@ class Scene:
 
 #: the 92k benchmark sheet (pice/bench/sheet.py): dt 9.35e-4 s at 1 m/s -> a rebuild each 160 steps
 SHEET = Scene("92k sheet", 400.0, 200.0)
-#: the full reference scene: dt 1.46e-4 s -> 1,027 steps a rebuild; one body, 12 lines on rank 0
+#: the full reference scene: dt 1.46e-4 s -> 1,027 steps a rebuild; one body, 12 lines on rank 0 (0.49 ms a step:
+#: pice bench, 2 ranks, commit dcf33c4)
 FULL = Scene("full scene", 400.0, 200.0, ghost_width=1.3006, rebuild_every=1027.0, motion_check_every=37.0,
-             check_every=50, bodies=1, platform=1.7e-3)
+             check_every=50, bodies=1, platform=0.49e-3)
 
 
 def square_grid(p: int) -> tuple[int, int]:
@@ -219,16 +220,15 @@ def slab_ghosts(scene: Scene, p: int) -> float:
 # -- the measurements the model is checked against (README "Speed", docs/reference_scene.md "Cost",
 #    mpi/comm_volume.py on 2 ranks here) ----------------------------------------------------------
 MEASURED = {
-    "sheet_rate_1": (3.0e6, 3.5e6),      # [particle-steps/s] one rank (benchmarks/sheet_throughput.py)
-    "sheet_efficiency_2": (0.79, 0.84),  # 2 ranks, most sweeps (README; issue 12)
-    "sheet_comm_share_2": (0.12, 0.19),  # exchange and waiting over wall time, 2 ranks
+    "sheet_rate_1": (5.8e6, 6.0e6),      # [particle-steps/s] one rank, pice bench (issue 12, commit dcf33c4)
+    "sheet_efficiency_2": (0.855, 0.891),  # 2 ranks, three interleaved pairs (docs/performance.md)
+    "sheet_comm_share_2": (0.08, 0.09),  # halo and waiting over the step, 2 ranks, pice bench
     "sheet_ghosts_2": (303, 345),        # per rank, counted: mean over the window, at its end
     "sheet_bytes_2": 21_818,             # [B] ghost update per step and rank, counted
-    "full_ms_2": 18.4,                   # [ms] per step of the full scene, 2 ranks (126 s per simulated s)
-    # a forced halo rebuild of the sheet on 2 ranks (mpi/comm_volume.py), loaded machine: 218-236 ms,
-    # 4.7 us per owned element, while the step ran 2.1x slower than quiet (31.7 ms against 15):
-    # Costs.rebuild_row = 4.7 / 2.1 = 2.2 us
-    "sheet_rebuild_us_per_owned_loaded": 4.7,
+    "full_ms_2": 10.2,                   # [ms] per step of the full scene, 2 ranks (pice bench, dcf33c4)
+    # a halo rebuild of the sheet on 2 ranks (docs/performance.md, "The ghost update and
+    # the rebuild"): 12 ms without migrants, ~17 ms with, for 46,000 owned elements: 0.26-0.37 us each
+    "sheet_rebuild_us_per_owned": 0.37,
 }
 
 
