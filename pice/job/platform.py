@@ -23,10 +23,12 @@ Moment = quantity("kg m^2")  # a principal moment of inertia, > 0
 class HullSpec(Section):
     """[bodies.hull]: the hull surface in the body frame (origin at the centre of gravity)."""
 
-    type: Literal["semi_submersible", "box", "mesh"]
+    type: Literal["semi_submersible", "box", "mesh", "revolved"]
     size: Optional[vector(Vec3, "m")] = None        # box: length, width, height
     centre: vector(Vec3, "m") = (0.0, 0.0, 0.0)     # box: centre in the body frame
     file: Optional[str] = None                      # mesh: meshio-readable closed triangle mesh
+    profile: Optional[tuple[vector(Vec2, "m"), ...]] = None  # revolved: (z, r) rings [m], keel up, body frame
+    segments: count(3) = 48                         # revolved: sides of each ring
 
     @model_validator(mode="after")
     def _geometry(self):
@@ -34,6 +36,11 @@ class HullSpec(Section):
             raise ValueError("size: missing: a box hull needs size = [length, width, height] (m)")
         if self.type == "box" and min(self.size) <= 0.0:
             raise ValueError("size: must be three lengths > 0 m")
+        if self.type == "revolved":
+            prof = self.profile or []
+            if len(prof) < 2 or any(b[0] <= a[0] for a, b in zip(prof, prof[1:])) or any(r <= 0.0 for _, r in prof):
+                raise ValueError(f"profile = {prof}: a revolved hull needs at least two [z, r] rings (m, body "
+                                 "frame), z increasing from the keel up, every radius r > 0")
         if self.type == "mesh" and self.file is None:
             raise ValueError("file: missing: a mesh hull needs file = \"path/to/hull.stl\" (relative to the "
                              "job file's folder; body frame, origin at the centre of gravity)")

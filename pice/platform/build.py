@@ -20,7 +20,7 @@ from ..physics.contact import contact_law, structure_crushing_pressure
 from .catenary import LayoutError, Segment
 from .hull_buoyancy import BRACE_RECORD, submerged
 from .hull_contact import Hull, build_triangle_grid, hull_forces
-from .hulls import box, semi_submersible, semi_submersible_braces
+from .hulls import box, revolved, semi_submersible, semi_submersible_braces
 from .layout import RHO_STEEL, spread_mooring
 from .mooring_lines import LineSegment, build_lines
 from .platform import Attachment, MooringGroup, Platform, lines_pull
@@ -41,6 +41,8 @@ def hull_mesh(job, k: int, base_dir=None) -> tuple[np.ndarray, np.ndarray]:
         v, t = semi_submersible()
     elif spec.type == "box":
         v, t = box(*spec.size, centre=spec.centre)
+    elif spec.type == "revolved":
+        v, t = revolved(spec.profile, spec.segments)
     else:
         try:
             v, t = read_triangle_mesh(pathlib.Path(base_dir or ".") / spec.file)

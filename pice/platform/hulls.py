@@ -138,6 +138,31 @@ def semi_submersible_braces(*, length: float = 86.2, width: float = 64.6, draft:
     return np.array(rows, BRACE_RECORD)
 
 
+def revolved(profile, segments: int = 48) -> tuple[np.ndarray, np.ndarray]:
+    """A closed, outward mesh of revolution about the z axis: ``profile`` (k, 2) of (z, r) [m] from the
+    bottom ring to the top ring (z increasing, every r > 0), each ring a regular ``segments``-gon
+    with its vertices on the circle, closed by a flat cap at each end (a conical hull, a buoy's
+    double cone, a cone structure)."""
+    prof = np.asarray(profile, float).reshape(-1, 2)
+    if len(prof) < 2 or np.any(np.diff(prof[:, 0]) <= 0.0) or np.any(prof[:, 1] <= 0.0):
+        raise ValueError(f"profile {prof.tolist()}: give at least two (z, r) rings, z increasing, every r > 0 m")
+    if int(segments) < 3:
+        raise ValueError(f"segments = {segments}: at least 3")
+    m, rings = int(segments), len(prof)
+    phi = 2.0 * math.pi * np.arange(m) / m
+    verts = [np.column_stack([r * np.cos(phi), r * np.sin(phi), np.full(m, z)]) for z, r in prof]
+    verts.append(np.array([[0.0, 0.0, prof[0, 0]], [0.0, 0.0, prof[-1, 0]]]))  # the caps' centres
+    bottom, top = rings * m, rings * m + 1
+    tris = []
+    for k in range(m):
+        j = (k + 1) % m
+        for ring in range(rings - 1):  # counter-clockwise seen from outside
+            a, b = ring * m + k, ring * m + j
+            tris += [(a, b, b + m), (a, b + m, a + m)]
+        tris += [(bottom, j, k), (top, (rings - 1) * m + k, (rings - 1) * m + j)]
+    return np.vstack(verts), np.asarray(tris, np.int64)
+
+
 def cylinder(p0, p1, radius: float, n: int = 64) -> tuple[np.ndarray, np.ndarray]:
     """A closed n-sided prism around the segment p0 -> p1 (outward triangles): a brace as a mesh,
     for drawing it or checking Eqs. 13-14 against the clipped-mesh volume of Eq. 12."""

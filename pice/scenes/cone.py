@@ -19,6 +19,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..platform.hulls import revolved
+
 
 def cone_mesh(*, diameter: float, angle_deg: float, below: float, above: float, neck: float,
               segments: int = 48) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -35,19 +37,7 @@ def cone_mesh(*, diameter: float, angle_deg: float, below: float, above: float, 
     rings = [(-below, r_w + below * cot), (above, r_w - above * cot), (above + neck, r_w - above * cot)]
     if rings[1][1] <= 0.0:
         raise ValueError(f"the slope closes below z = {above} m: lower `above` or widen the cone")
-    phi = 2.0 * math.pi * np.arange(segments) / segments
-    verts = [np.column_stack([r * np.cos(phi), r * np.sin(phi), np.full(segments, z)]) for z, r in rings]
-    verts.append(np.array([[0.0, 0.0, rings[0][0]], [0.0, 0.0, rings[-1][0]]]))  # the caps' centres
-    v = np.vstack(verts)
-    bottom, top = 3 * segments, 3 * segments + 1
-    tris = []
-    for k in range(segments):
-        j = (k + 1) % segments
-        for ring in range(2):  # counter-clockwise seen from outside
-            a, b = ring * segments + k, ring * segments + j
-            tris += [(a, b, b + segments), (a, b + segments, a + segments)]
-        tris += [(bottom, j, k), (top, 2 * segments + k, 2 * segments + j)]
-    t = np.asarray(tris, np.int64)
+    v, t = revolved(rings, segments)
     a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
     vol6 = np.einsum("ij,ij->i", a, np.cross(b, c))  # six times the signed tetrahedra volumes
     centre = (vol6[:, None] * (a + b + c)).sum(axis=0) / (4.0 * vol6.sum())
