@@ -1,0 +1,232 @@
+"""Convex polyhedra: the overlap of two, and the contact it defines (numba; issues 14 and 15's rigid
+floes and rubble blocks, both convex: prisms and boxes).
+
+A polyhedron is given by its faces: ``pts`` (MAX_FACES, MAX_FACE_VERTS, 3) [m] with ``counts``
+(MAX_FACES,) vertices each (0 for an unused face), every face convex and counter-clockwise seen
+from outside. The overlap A n B is A clipped by every face plane of B (Sutherland-Hodgman on each
+face, and a cap face on the cutting plane from the new points). Each face of the overlap remembers
+whether it lies on the surface of A (0) or of B (1).
+
+The contact of an overlap of volume V (a body's ice crushing or pressing into another's):
+
+    S_A = sum over the overlap's faces on A's surface of their vector areas   [m^2]
+    n = S_A / |S_A|   (from A towards B)   A_c = |S_A|   delta = V / A_c
+
+S_A is minus the gradient of V with respect to a translation of B: moving B by dx changes the
+overlap by -S_A . dx (tests/unit/test_polyhedra.py checks it). A normal force along n is then the
+direction in which the overlap grows fastest (the "energy-conserving" direction of Feng's contact
+theory for polyhedra), and A_c, the overlap's area seen along n, is where the plastic limit
+sigma_c A_c of the contact law acts. For two boxes pressed face to face this is the face normal,
+the overlap of the faces and the depth.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import JIT
+
+MAX_FACES = 48       # faces of one body or overlap (a floe prism of 16 sides has 18)
+MAX_FACE_VERTS = 40  # vertices of one face after clipping
+EPS = 1e-12          # [m] a point within this of a plane lies on it
+
+
+@njit(**JIT)
+def _clip_face(src, n_src, normal, offset, out):
+    """Clip the convex polygon src[:n_src] to normal . x <= offset; write it to out; return its size."""
+    m = 0
+    for i in range(n_src):
+        a = src[i]
+        b = src[(i + 1) % n_src]
+        da = normal[0] * a[0] + normal[1] * a[1] + normal[2] * a[2] - offset
+        db = normal[0] * b[0] + normal[1] * b[1] + normal[2] * b[2] - offset
+        if da <= EPS:
+            out[m] = a
+            m += 1
+        if (da < -EPS and db > EPS) or (da > EPS and db < -EPS):
+            t = da / (da - db)
+            out[m] = a + t * (b - a)
+            m += 1
+    return m
+
+
+@njit(**JIT)
+def _cap(pts, count, normal, out):
+    """The points on a cutting plane as one convex polygon, counter-clockwise seen along +normal;
+    duplicates (within EPS) dropped. Returns its size."""
+    uniq = np.empty((count, 3))
+    k = 0
+    for i in range(count):
+        dup = False
+        for j in range(k):
+            d = pts[i] - uniq[j]
+            if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= 1e-18:
+                dup = True
+                break
+        if not dup:
+            uniq[k] = pts[i]
+            k += 1
+    if k < 3:
+        return 0
+    c = np.zeros(3)
+    for i in range(k):
+        c += uniq[i]
+    c /= k
+    # a basis (u, v) of the plane with u x v = normal
+    ref = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = ref - (ref[0] * normal[0] + ref[1] * normal[1] + ref[2] * normal[2]) * normal
+    u /= math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    v = np.array([normal[1] * u[2] - normal[2] * u[1], normal[2] * u[0] - normal[0] * u[2],
+                  normal[0] * u[1] - normal[1] * u[0]])
+    ang = np.empty(k)
+    for i in range(k):
+        d = uniq[i] - c
+        ang[i] = math.atan2(d[0] * v[0] + d[1] * v[1] + d[2] * v[2], d[0] * u[0] + d[1] * u[1] + d[2] * u[2])
+    order = np.argsort(ang)
+    for i in range(k):
+        out[i] = uniq[order[i]]
+    return k
+
+
+@njit(**JIT)
+def face_plane(poly, count):
+    """(unit outward normal (3,), offset) of a convex face: normal . x = offset on it."""
+    s = np.zeros(3)
+    for i in range(1, count - 1):
+        a = poly[i] - poly[0]
+        b = poly[i + 1] - poly[0]
+        s[0] += a[1] * b[2] - a[2] * b[1]
+        s[1] += a[2] * b[0] - a[0] * b[2]
+        s[2] += a[0] * b[1] - a[1] * b[0]
+    s /= math.sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2])
+    return s, s[0] * poly[0, 0] + s[1] * poly[0, 1] + s[2] * poly[0, 2]
+
+
+@njit(**JIT)
+def overlap(a_pts, a_counts, b_pts, b_counts):
+    """A n B of two convex polyhedra (module docstring): (pts, counts, side) of its faces, side 0 on A's
+    surface and 1 on B's. Empty (every count 0) when they do not overlap."""
+    pts = a_pts.copy()
+    counts = a_counts.copy()
+    side = np.zeros(MAX_FACES, np.int64)
+    nxt = np.zeros_like(pts)
+    tmp = np.empty((MAX_FACE_VERTS, 3))
+    cut = np.empty((2 * MAX_FACES, 3))
+    for fb in range(MAX_FACES):
+        if b_counts[fb] < 3:
+            continue
+        normal, offset = face_plane(b_pts[fb], b_counts[fb])
+        outside = False  # no vertex beyond the plane: nothing to cut (a face may lie in it)
+        for f in range(MAX_FACES):
+            for i in range(counts[f]):
+                if normal[0] * pts[f, i, 0] + normal[1] * pts[f, i, 1] + normal[2] * pts[f, i, 2] - offset > EPS:
+                    outside = True
+        if not outside:
+            continue
+        ncounts = np.zeros(MAX_FACES, np.int64)
+        nside = np.zeros(MAX_FACES, np.int64)
+        nfaces = 0
+        ncut = 0
+        for f in range(MAX_FACES):
+            if counts[f] < 3:
+                continue
+            m = _clip_face(pts[f], counts[f], normal, offset, tmp)
+            for i in range(m):  # points on the cutting plane close the cap
+                d = normal[0] * tmp[i, 0] + normal[1] * tmp[i, 1] + normal[2] * tmp[i, 2] - offset
+                if abs(d) <= 1e-9 and ncut < cut.shape[0]:
+                    cut[ncut] = tmp[i]
+                    ncut += 1
+            if m >= 3:
+                nxt[nfaces, :m] = tmp[:m]
+                ncounts[nfaces] = m
+                nside[nfaces] = side[f]
+                nfaces += 1
+        if nfaces == 0:
+            return pts, np.zeros(MAX_FACES, np.int64), side
+        k = _cap(cut, ncut, normal, tmp)
+        if k >= 3 and nfaces < MAX_FACES:
+            nxt[nfaces, :k] = tmp[:k]
+            ncounts[nfaces] = k
+            nside[nfaces] = 1
+            nfaces += 1
+        pts, nxt = nxt, pts
+        counts = ncounts
+        side = nside
+    return pts, counts, side
+
+
+@njit(**JIT)
+def volume_centroid(pts, counts):
+    """(volume [m^3], centroid (3,) [m]) of a closed polyhedron given by its faces (0, NaN if empty)."""
+    ref = np.zeros(3)
+    found = False
+    for f in range(MAX_FACES):
+        if counts[f] >= 3:
+            ref = pts[f, 0].copy()
+            found = True
+            break
+    c = np.zeros(3)
+    if not found:
+        return 0.0, np.full(3, np.nan)
+    vol = 0.0
+    for f in range(MAX_FACES):
+        for i in range(1, counts[f] - 1):
+            a = pts[f, 0] - ref
+            b = pts[f, i] - ref
+            d = pts[f, i + 1] - ref
+            v6 = a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) + a[2] * (b[0] * d[1] - b[1] * d[0])
+            vol += v6
+            c += v6 * (pts[f, 0] + pts[f, i] + pts[f, i + 1] + ref)
+    if vol <= 0.0:
+        return 0.0, np.full(3, np.nan)
+    return vol / 6.0, c / (4.0 * vol)
+
+
+@njit(**JIT)
+def contact_geometry(a_pts, a_counts, b_pts, b_counts):
+    """(overlap volume [m^3], its centroid (3,) [m], unit normal from A towards B, contact area A_c
+    [m^2], depth delta = V / A_c [m]) of two convex polyhedra (module docstring); volume 0 when apart."""
+    pts, counts, side = overlap(a_pts, a_counts, b_pts, b_counts)
+    vol, centre = volume_centroid(pts, counts)
+    normal = np.zeros(3)
+    if vol <= 0.0:
+        return 0.0, centre, normal, 0.0, 0.0
+    s = np.zeros(3)
+    for f in range(MAX_FACES):
+        if counts[f] < 3 or side[f] != 0:
+            continue
+        for i in range(1, counts[f] - 1):
+            a = pts[f, i] - pts[f, 0]
+            b = pts[f, i + 1] - pts[f, 0]
+            s[0] += 0.5 * (a[1] * b[2] - a[2] * b[1])
+            s[1] += 0.5 * (a[2] * b[0] - a[0] * b[2])
+            s[2] += 0.5 * (a[0] * b[1] - a[1] * b[0])
+    area = math.sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2])
+    if area <= 0.0:
+        return vol, centre, normal, 0.0, 0.0
+    return vol, centre, s / area, area, vol / area
+
+
+def faces_array(faces) -> tuple[np.ndarray, np.ndarray]:
+    """(pts, counts) of ``faces``, a list of (k, 3) arrays (convex, counter-clockwise from outside)."""
+    if len(faces) > MAX_FACES:
+        raise ValueError(f"{len(faces)} faces: at most {MAX_FACES}")
+    pts = np.zeros((MAX_FACES, MAX_FACE_VERTS, 3))
+    counts = np.zeros(MAX_FACES, np.int64)
+    for f, face in enumerate(faces):
+        face = np.asarray(face, float)
+        pts[f, :len(face)] = face
+        counts[f] = len(face)
+    return pts, counts
+
+
+def prism(polygon, z0: float, z1: float) -> tuple[np.ndarray, np.ndarray]:
+    """(pts, counts) of the right prism over a convex polygon (k, 2) [m] (counter-clockwise in x-y)
+    from z0 to z1 [m]: a floe, or with a rectangle a box."""
+    p = np.asarray(polygon, float)
+    bottom = np.column_stack([p[::-1], np.full(len(p), z0)])
+    top = np.column_stack([p, np.full(len(p), z1)])
+    sides = [np.array([[*p[i], z0], [*p[(i + 1) % len(p)], z0], [*p[(i + 1) % len(p)], z1], [*p[i], z1]])
+             for i in range(len(p))]
+    return faces_array([bottom, top] + sides)
