@@ -1,0 +1,76 @@
+"""Contact between rigid convex floes (issue 14: seed 003's viscoelastic-plastic law, Eqs. 1-4, on the
+overlap of two polyhedra; numba, arrays in and out, no MPI).
+
+For each pair (a, b), a the lower gid, whose bounding spheres meet, the overlap of their world
+polyhedra (kernels/polyhedra.contact_geometry) gives the normal n (from a towards b), the contact
+area A_c and the depth delta = V / A_c, at the overlap's centroid. The law is the one of every
+contact in pice (kernels/contact_law.py): F_n = k_n (delta - delta_p) - c_n u_n, 0 <= F_n <= sigma_c A_c
+(the excess becomes plastic penetration delta_p), and a tangential spring capped at mu F_n. The
+dashpot is given as a coefficient c_n [N s/m] (seed 003, Table 3), passed to the law as the damping
+ratio c_n / (2 sqrt(m_eff k_n)) of the pair's m_eff = m_a m_b / (m_a + m_b). b receives F_n n + h
+at the overlap's centroid, a the opposite: linear momentum is conserved exactly, and angular
+momentum too (both act at one point).
+
+History per pair, kept at the lower-gid floe (the slots of kernels/contacts._find_slot): the
+tangential force (3) and delta_p.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import JIT
+from .contact_law import plastic_normal_force, tangential_force
+from .contacts import _find_slot
+from .polyhedra import contact_geometry
+
+
+@njit(**JIT)
+def floe_contacts(n, gid, x, v, omega, mass, bound, pts, counts, kn, cn, kt, mu, pressure, dt, step,
+                  cgid, stamp, hist, force, torque):
+    """Add the contact forces [N] and torques about each centroid [N m] of every overlapping pair of
+    the n floes. pts, counts: (n, MAX_FACES, MAX_FACE_VERTS, 3), (n, MAX_FACES) world polyhedra; bound:
+    (n,) bounding radius about x [m]. Returns (contacts, contacts in plastic flow, largest overlap
+    volume [m^3])."""
+    ncontact = 0
+    nplastic = 0
+    worst = 0.0
+    for i in range(n):
+        for j in range(i + 1, n):
+            d = x[j] - x[i]
+            reach = bound[i] + bound[j]
+            if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach:
+                continue
+            a, b = (i, j) if gid[i] < gid[j] else (j, i)
+            vol, c, nrm, area, depth = contact_geometry(pts[a], counts[a], pts[b], counts[b])
+            if vol <= 0.0:
+                continue
+            ncontact += 1
+            worst = max(worst, vol)
+            ra, rb = c - x[a], c - x[b]
+            # velocity of b's material at the contact point relative to a's
+            u = (v[b] + np.cross(omega[b], rb)) - (v[a] + np.cross(omega[a], ra))
+            un = u[0] * nrm[0] + u[1] * nrm[1] + u[2] * nrm[2]
+            s, found = _find_slot(cgid, stamp, a, gid[b], step)
+            h0 = hist[a, s, 0] if found else 0.0
+            h1 = hist[a, s, 1] if found else 0.0
+            h2 = hist[a, s, 2] if found else 0.0
+            dp0 = hist[a, s, 3] if found else 0.0
+            m_eff = mass[a] * mass[b] / (mass[a] + mass[b])
+            zeta = cn / (2.0 * math.sqrt(m_eff * kn)) if kn > 0.0 else 0.0
+            fn, dp = plastic_normal_force(kn, zeta, m_eff, depth, dp0, un, pressure * area)
+            t0, t1, t2, _ = tangential_force(h0, h1, h2, nrm[0], nrm[1], nrm[2], u[0], u[1], u[2], un, kt, dt,
+                                             mu * fn)
+            if dp > dp0:
+                nplastic += 1
+            if s >= 0:
+                cgid[a, s] = gid[b]
+                stamp[a, s] = step
+                hist[a, s, 0], hist[a, s, 1], hist[a, s, 2], hist[a, s, 3] = t0, t1, t2, dp
+            f = fn * nrm + np.array([t0, t1, t2])
+            force[b] += f
+            force[a] -= f
+            torque[b] += np.cross(rb, f)
+            torque[a] -= np.cross(ra, f)
+    return ncontact, nplastic, worst

@@ -1,0 +1,140 @@
+"""Rigid convex floes: their state, their build from polygons, and their step (issue 14; one rank, no
+water yet: the contact law and the rigid-body step that the broken-ice scenes will use).
+
+A floe is a right prism over a convex polygon (pice/scenes/floe_field.py), rigid: six degrees of
+freedom, the attitude a unit quaternion and the angular momentum carried in space, stepped as the
+platform's bodies are (platform/rigid_body.py: velocity Verlet with the exact free rotation). Its
+stable step comes from the contact law alone (kernels/floe_contact.py), not from springs inside it:
+for k_n and the pair's m_eff, dt < 2 / sqrt(k_n / m_eff) (``contact_step_limit``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..kernels.floe_contact import floe_contacts
+from ..kernels.geometry import rotation_matrix
+from ..kernels.polyhedra import prism
+from ..platform.rigid_body import angular_velocity, free_rotation
+from ..scenes.floe_field import polygon_centroid
+from ..state import MAX_CONTACTS
+
+
+@dataclass
+class FloeLaw:
+    """Seed 003's contact parameters (Table 3): k_n [N/m], c_n [N s/m], k_t [N/m], mu, sigma_c [Pa]."""
+
+    kn: float = 1.3e6
+    cn: float = 2.6e6
+    kt: float = 0.78e6
+    mu: float = 0.3
+    pressure: float = 2.5e6
+
+
+def prism_inertia(polygon: np.ndarray, thickness: float, density: float):
+    """(mass [kg], principal moments (3,) [kg m^2], angle [rad] of the first in-plane principal axis
+    from x) of a homogeneous right prism over a convex polygon (k, 2) about its centroid."""
+    p = polygon - polygon_centroid(polygon)
+    x, y = p[:, 0], p[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cross = x * yn - xn * y
+    area = 0.5 * cross.sum()
+    ixx = (cross * (y * y + y * yn + yn * yn)).sum() / 12.0   # integral of y^2 dA
+    iyy = (cross * (x * x + x * xn + xn * xn)).sum() / 12.0   # integral of x^2 dA
+    ixy = (cross * (x * yn + 2 * x * y + 2 * xn * yn + xn * y)).sum() / 24.0
+    angle = 0.5 * math.atan2(2.0 * ixy, iyy - ixx)  # principal axes of the area's second moments
+    c, s = math.cos(angle), math.sin(angle)
+    i_u = iyy * c * c + ixx * s * s + 2 * ixy * c * s  # integral of u^2 along the first axis
+    i_v = iyy * s * s + ixx * c * c - 2 * ixy * c * s
+    mass = density * area * thickness
+    t2 = thickness * thickness / 12.0
+    moments = density * thickness * np.array([i_v + area * t2, i_u + area * t2, i_u + i_v])
+    return mass, moments, angle
+
+
+class Floes:
+    """n rigid floes: world x, v, q, L and the body-frame prisms (module docstring)."""
+
+    def __init__(self, polygons, thickness, *, density: float = 920.0, base=None, velocity=(0.0, 0.0, 0.0),
+                 law: FloeLaw | None = None):
+        """polygons: convex (k, 2) [m] counter-clockwise; thickness (n,) [m]; base (n,) the z of each
+        floe's bottom [m] (default: -density/1025 of its thickness, afloat)."""
+        n = len(polygons)
+        self.law = law or FloeLaw()
+        self.gid = np.arange(n, dtype=np.int64)
+        self.x, self.v, self.L = np.zeros((n, 3)), np.tile(np.asarray(velocity, float), (n, 1)), np.zeros((n, 3))
+        self.q = np.zeros((n, 4))
+        self.mass, self.inertia = np.zeros(n), np.zeros((n, 3))
+        self.bound = np.zeros(n)
+        self.body = []
+        thickness = np.asarray(thickness, float)
+        base = -thickness * density / 1025.0 if base is None else np.asarray(base, float)
+        for k, poly in enumerate(polygons):
+            poly = np.asarray(poly, float)
+            centre = polygon_centroid(poly)
+            m, moments, angle = prism_inertia(poly, thickness[k], density)
+            self.mass[k], self.inertia[k] = m, moments
+            self.x[k] = [centre[0], centre[1], base[k] + 0.5 * thickness[k]]
+            self.q[k] = [math.cos(0.5 * angle), 0.0, 0.0, math.sin(0.5 * angle)]
+            c, s = math.cos(angle), math.sin(angle)
+            local = (poly - centre) @ np.array([[c, -s], [s, c]])  # into the principal axes
+            self.body.append(prism(local, -0.5 * thickness[k], 0.5 * thickness[k]))
+            self.bound[k] = math.hypot(np.linalg.norm(local, axis=1).max(), 0.5 * thickness[k])
+        self.force, self.torque = np.zeros((n, 3)), np.zeros((n, 3))
+        self.cgid = np.full((n, MAX_CONTACTS), -1, np.int64)
+        self.stamp = np.full((n, MAX_CONTACTS), -10, np.int64)
+        self.hist = np.zeros((n, MAX_CONTACTS, 4))
+        self.step_count = 0
+        self.stats = (0, 0, 0.0)
+
+    @property
+    def omega(self) -> np.ndarray:
+        return np.array([angular_velocity(self.q[k], self.L[k], self.inertia[k]) for k in range(len(self.mass))])
+
+    def world(self):
+        """(pts, counts) of every floe's prism at its pose."""
+        pts = np.array([b[0] for b in self.body])
+        counts = np.array([b[1] for b in self.body])
+        for k in range(len(self.mass)):
+            R = rotation_matrix(self.q[k])
+            used = counts[k] > 0
+            pts[k, used] = pts[k, used] @ R.T + self.x[k]
+        return pts, counts
+
+    def compute_forces(self, dt: float) -> None:
+        self.force[:] = 0.0
+        self.torque[:] = 0.0
+        pts, counts = self.world()
+        law = self.law
+        self.stats = floe_contacts(len(self.mass), self.gid, self.x, self.v, self.omega, self.mass, self.bound,
+                                   pts, counts, law.kn, law.cn, law.kt, law.mu, law.pressure, dt, self.step_count,
+                                   self.cgid, self.stamp, self.hist, self.force, self.torque)
+
+    def step(self, dt: float) -> None:
+        """Velocity Verlet: half kick, drift with the exact free rotation, forces, half kick."""
+        h = 0.5 * dt
+        self.v += h * self.force / self.mass[:, None]
+        self.L += h * self.torque
+        self.x += dt * self.v
+        for k in range(len(self.mass)):
+            self.q[k] = free_rotation(self.q[k], self.L[k], self.inertia[k], dt)
+        self.step_count += 1
+        self.compute_forces(dt)
+        self.v += h * self.force / self.mass[:, None]
+        self.L += h * self.torque
+
+    def momentum(self) -> tuple[np.ndarray, np.ndarray]:
+        """(linear [kg m/s], angular about the origin [kg m^2/s]) of all floes."""
+        p = self.mass[:, None] * self.v
+        return p.sum(axis=0), (np.cross(self.x, p) + self.L).sum(axis=0)
+
+
+def contact_step_limit(law: FloeLaw, m_eff: float) -> float:
+    """The stable step [s] of one contact: the spring-dashpot of k_n and c_n on m_eff [kg] under
+    velocity Verlet, 2 / omega (sqrt(1 + zeta^2) - zeta)."""
+    omega = math.sqrt(law.kn / m_eff)
+    zeta = law.cn / (2.0 * math.sqrt(m_eff * law.kn))
+    return 2.0 / omega * (math.sqrt(1.0 + zeta * zeta) - zeta)

@@ -1,0 +1,121 @@
+"""Rigid floes in contact (pice/physics/floes.py, pice/kernels/floe_contact.py): issue 14's contact checks.
+
+References:
+- conservation laws: two floes alone conserve linear and angular momentum (the pair's forces are
+  equal, opposite and act at one point), to 1e-9 of m |v|;
+- the restitution of the contact law: for a head-on collision of two prisms face to face, the
+  overlap depth is the approach and the law is the 1-D spring-dashpot m_eff x'' = -(k_n x + c_n x'),
+  which never pulls (F >= 0): solved independently with scipy's solve_ivp (rtol 1e-10) up to the
+  moment F = 0; the floes' separation speed matches it within 1 %. Table 3's dashpot on 2,100 t
+  floes is overdamped (zeta 1.1): the contact lasts about m_eff / c_n = 0.4 s, and the step's
+  dashpot sees the half-step velocity (first order in c dt / m: 1.6 % at 0.02 of that time,
+  measured), so the step is 0.005 of it (2 ms; the stability limit is 0.70 s: accuracy, not
+  stability, sets the step of such a contact);
+- the plastic limit: with sigma_c A_c below the elastic peak the normal force never exceeds
+  sigma_c A_c (to round-off) and the contact leaves a plastic penetration;
+- the inertia of a prism over a polygon against the rectangle's b h^3 / 12 formulas.
+Seed 003, Table 3: k_n 1.3 MN/m, c_n 2.6 MN s/m, k_t 0.78 MN/m, sigma_c 2.5 MPa, mu 0.3.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from pice.physics.floes import Floes, FloeLaw, contact_step_limit, prism_inertia
+
+SIDE, H, RHO = 30.0, 2.6, 920.0
+
+
+def _square(cx, cy, side=SIDE):
+    h = 0.5 * side
+    return np.array([[cx - h, cy - h], [cx + h, cy - h], [cx + h, cy + h], [cx - h, cy + h]])
+
+
+def _pair(speed, law, gap=0.5, offset_y=0.0):
+    floes = Floes([_square(0.0, 0.0), _square(SIDE + gap, offset_y)], [H, H], density=RHO, base=[-1.5, -1.5],
+                  law=law)
+    floes.v[0, 0], floes.v[1, 0] = 0.5 * speed, -0.5 * speed
+    return floes
+
+
+def _step_for(law, m_eff):
+    """0.005 of the contact's shortest time scale: its period and its damping time m_eff / c_n [s]."""
+    return 0.005 * min(2.0 * math.pi * math.sqrt(m_eff / law.kn), m_eff / law.cn)
+
+
+def _collide(floes, dt, t_end):
+    floes.compute_forces(dt)
+    largest = 0.0
+    for _ in range(int(t_end / dt)):
+        floes.step(dt)
+        largest = max(largest, float(np.abs(floes.force[:, 0]).max()))
+    return largest
+
+
+def _ode_restitution(m_eff, k, c):
+    """Separation speed over approach speed of m_eff x'' = -(k x + c x'), x(0) = 0, x'(0) = 1, ended
+    when the force k x + c x' falls to zero (the law never pulls)."""
+    force_zero = lambda t, y: k * y[0] + c * y[1] if t > 1e-9 else 1.0  # noqa: E731
+    force_zero.terminal, force_zero.direction = True, -1
+    sol = solve_ivp(lambda t, y: [y[1], -(k * y[0] + c * y[1]) / m_eff], (0.0, 100.0), [0.0, 1.0],
+                    events=force_zero, rtol=1e-10, atol=1e-12)
+    return -sol.y_events[0][0][1]
+
+
+def test_prism_inertia_of_a_rectangle():
+    m, moments, angle = prism_inertia(_square(3.0, -2.0, 1.0) * [4.0, 1.0] + [0.0, 0.0], H, RHO)
+    a, b = 4.0, 1.0  # the rectangle's sides along x and y
+    assert m == pytest.approx(RHO * a * b * H, rel=1e-12)
+    expected = m / 12.0 * np.array([b * b + H * H, a * a + H * H, a * a + b * b])
+    np.testing.assert_allclose(moments, expected, rtol=1e-12)
+    assert abs(math.sin(2 * angle)) < 1e-12  # principal axes along x and y
+
+
+@pytest.mark.parametrize("speed", [0.4, 2.0])
+def test_head_on_collision_momentum_and_restitution(speed):
+    law = FloeLaw()  # seed 003 Table 3
+    floes = _pair(speed, law)
+    m_eff = 0.5 * floes.mass[0]
+    dt = _step_for(law, m_eff)
+    assert dt < contact_step_limit(law, m_eff)
+    p0, l0 = floes.momentum()
+    scale = floes.mass[0] * speed
+    _collide(floes, dt, 1.25 + 10.0 / speed)  # contact from 0.25 / speed, apart by a few seconds
+    p1, l1 = floes.momentum()
+    assert np.abs(p1 - p0).max() <= 1e-9 * scale and np.abs(l1 - l0).max() <= 1e-9 * scale * SIDE
+    separation = floes.v[1, 0] - floes.v[0, 0]
+    e = _ode_restitution(m_eff, law.kn, law.cn)
+    assert separation / speed == pytest.approx(e, rel=0.01, abs=1e-3)
+    assert np.abs(floes.v[:, 1:]).max() < 1e-9 * speed  # head on: nothing sideways, no turning
+    assert floes.stats[0] == 0  # apart again at the end
+
+
+def test_plastic_limit_caps_the_normal_force():
+    law = FloeLaw(pressure=2.0e3)  # sigma_c A_c = 2 kPa x 30 m x 2.6 m = 156 kN, below the elastic peak
+    floes = _pair(2.0, law)
+    m_eff = 0.5 * floes.mass[0]
+    dt = _step_for(law, m_eff)
+    largest = _collide(floes, dt, 5.0)
+    cap = law.pressure * SIDE * H
+    assert largest <= cap * (1 + 1e-12)
+    assert largest >= 0.999 * cap          # it reached the limit
+    assert floes.hist[0, :, 3].max() > 0.0  # and left a plastic penetration
+
+
+def test_glancing_contact_conserves_angular_momentum():
+    """Offset by half a side in y: the floes turn; linear and angular momentum stay."""
+    law = FloeLaw()
+    floes = _pair(1.0, law, offset_y=0.5 * SIDE)
+    floes.v[1, 1] = 0.2
+    m_eff = 0.5 * floes.mass[0]
+    dt = _step_for(law, m_eff)
+    p0, l0 = floes.momentum()
+    _collide(floes, dt, 20.0)
+    p1, l1 = floes.momentum()
+    scale = floes.mass[0] * 1.0
+    assert np.abs(p1 - p0).max() <= 1e-9 * scale and np.abs(l1 - l0).max() <= 1e-9 * scale * SIDE
+    assert np.abs(floes.omega[:, 2]).max() > 1e-5  # it did turn them
