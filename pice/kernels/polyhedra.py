@@ -104,55 +104,63 @@ def face_plane(poly, count):
 
 
 @njit(**JIT)
+def clip(pts, counts, side, normal, offset, tag):
+    """The convex polyhedron (pts, counts, side) cut to normal . x <= offset: (pts, counts, side) of the
+    part kept, the cap on the plane tagged ``tag`` (module docstring). Unchanged when nothing lies
+    beyond the plane (a face may lie in it); every count 0 when nothing is kept."""
+    n_faces = pts.shape[0]
+    outside = False
+    for f in range(n_faces):
+        for i in range(counts[f]):
+            if normal[0] * pts[f, i, 0] + normal[1] * pts[f, i, 1] + normal[2] * pts[f, i, 2] - offset > EPS:
+                outside = True
+    if not outside:
+        return pts, counts, side
+    nxt = np.zeros_like(pts)
+    ncounts = np.zeros(n_faces, np.int64)
+    nside = np.zeros(n_faces, np.int64)
+    tmp = np.empty((pts.shape[1], 3))
+    cut = np.empty((2 * n_faces, 3))
+    nfaces = 0
+    ncut = 0
+    for f in range(n_faces):
+        if counts[f] < 3:
+            continue
+        m = _clip_face(pts[f], counts[f], normal, offset, tmp)
+        for i in range(m):  # points on the cutting plane close the cap
+            d = normal[0] * tmp[i, 0] + normal[1] * tmp[i, 1] + normal[2] * tmp[i, 2] - offset
+            if abs(d) <= 1e-9 and ncut < cut.shape[0]:
+                cut[ncut] = tmp[i]
+                ncut += 1
+        if m >= 3:
+            nxt[nfaces, :m] = tmp[:m]
+            ncounts[nfaces] = m
+            nside[nfaces] = side[f]
+            nfaces += 1
+    if nfaces == 0:
+        return nxt, ncounts, nside
+    k = _cap(cut, ncut, normal, tmp)
+    if k >= 3 and nfaces < n_faces:
+        nxt[nfaces, :k] = tmp[:k]
+        ncounts[nfaces] = k
+        nside[nfaces] = tag
+    return nxt, ncounts, nside
+
+
+@njit(**JIT)
 def overlap(a_pts, a_counts, b_pts, b_counts):
     """A n B of two convex polyhedra (module docstring): (pts, counts, side) of its faces, side 0 on A's
     surface and 1 on B's. Empty (every count 0) when they do not overlap."""
     pts = a_pts.copy()
     counts = a_counts.copy()
-    side = np.zeros(MAX_FACES, np.int64)
-    nxt = np.zeros_like(pts)
-    tmp = np.empty((MAX_FACE_VERTS, 3))
-    cut = np.empty((2 * MAX_FACES, 3))
-    for fb in range(MAX_FACES):
+    side = np.zeros(a_counts.shape[0], np.int64)
+    for fb in range(b_counts.shape[0]):
         if b_counts[fb] < 3:
             continue
         normal, offset = face_plane(b_pts[fb], b_counts[fb])
-        outside = False  # no vertex beyond the plane: nothing to cut (a face may lie in it)
-        for f in range(MAX_FACES):
-            for i in range(counts[f]):
-                if normal[0] * pts[f, i, 0] + normal[1] * pts[f, i, 1] + normal[2] * pts[f, i, 2] - offset > EPS:
-                    outside = True
-        if not outside:
-            continue
-        ncounts = np.zeros(MAX_FACES, np.int64)
-        nside = np.zeros(MAX_FACES, np.int64)
-        nfaces = 0
-        ncut = 0
-        for f in range(MAX_FACES):
-            if counts[f] < 3:
-                continue
-            m = _clip_face(pts[f], counts[f], normal, offset, tmp)
-            for i in range(m):  # points on the cutting plane close the cap
-                d = normal[0] * tmp[i, 0] + normal[1] * tmp[i, 1] + normal[2] * tmp[i, 2] - offset
-                if abs(d) <= 1e-9 and ncut < cut.shape[0]:
-                    cut[ncut] = tmp[i]
-                    ncut += 1
-            if m >= 3:
-                nxt[nfaces, :m] = tmp[:m]
-                ncounts[nfaces] = m
-                nside[nfaces] = side[f]
-                nfaces += 1
-        if nfaces == 0:
-            return pts, np.zeros(MAX_FACES, np.int64), side
-        k = _cap(cut, ncut, normal, tmp)
-        if k >= 3 and nfaces < MAX_FACES:
-            nxt[nfaces, :k] = tmp[:k]
-            ncounts[nfaces] = k
-            nside[nfaces] = 1
-            nfaces += 1
-        pts, nxt = nxt, pts
-        counts = ncounts
-        side = nside
+        pts, counts, side = clip(pts, counts, side, normal, offset, 1)
+        if counts.sum() == 0:
+            break
     return pts, counts, side
 
 
@@ -161,7 +169,7 @@ def volume_centroid(pts, counts):
     """(volume [m^3], centroid (3,) [m]) of a closed polyhedron given by its faces (0, NaN if empty)."""
     ref = np.zeros(3)
     found = False
-    for f in range(MAX_FACES):
+    for f in range(counts.shape[0]):
         if counts[f] >= 3:
             ref = pts[f, 0].copy()
             found = True
@@ -170,7 +178,7 @@ def volume_centroid(pts, counts):
     if not found:
         return 0.0, np.full(3, np.nan)
     vol = 0.0
-    for f in range(MAX_FACES):
+    for f in range(counts.shape[0]):
         for i in range(1, counts[f] - 1):
             a = pts[f, 0] - ref
             b = pts[f, i] - ref
@@ -193,7 +201,7 @@ def contact_geometry(a_pts, a_counts, b_pts, b_counts):
     if vol <= 0.0:
         return 0.0, centre, normal, 0.0, 0.0
     s = np.zeros(3)
-    for f in range(MAX_FACES):
+    for f in range(counts.shape[0]):
         if counts[f] < 3 or side[f] != 0:
             continue
         for i in range(1, counts[f] - 1):

@@ -1,5 +1,6 @@
-"""Rigid convex floes: their state, their build from polygons, and their step (issue 14; one rank, no
-water yet: the contact law and the rigid-body step that the broken-ice scenes will use).
+"""Rigid convex floes: their state, their build from polygons, and their step (issue 14; one rank, still
+water or a current, no waves yet: the contact law, the water and the rigid-body step that the
+broken-ice scenes will use; not yet part of a job or the MPI step).
 
 A floe is a right prism over a convex polygon (pice/scenes/floe_field.py), rigid: six degrees of
 freedom, the attitude a unit quaternion and the angular momentum carried in space, stepped as the
@@ -16,11 +17,26 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..kernels.floe_contact import floe_contacts
+from ..kernels.floe_hydro import floe_water
 from ..kernels.geometry import rotation_matrix
 from ..kernels.polyhedra import prism
 from ..platform.rigid_body import angular_velocity, free_rotation
-from ..scenes.floe_field import polygon_centroid
+from ..scenes.floe_field import polygon_area, polygon_centroid
 from ..state import MAX_CONTACTS
+
+
+@dataclass
+class FloeWater:
+    """The water floes float in: density [kg/m^3], level [m], gravity [m/s^2], current (2,) [m/s], skin
+    drag C_w, form drag C_d, and the damping ratio of heave, roll and pitch (kernels/floe_hydro.py)."""
+
+    density: float = 1025.0
+    level: float = 0.0
+    gravity: float = 9.81
+    current: tuple = (0.0, 0.0)
+    skin: float = 0.0055
+    form: float = 1.0
+    damping_ratio: float = 0.1
 
 
 @dataclass
@@ -59,11 +75,14 @@ class Floes:
     """n rigid floes: world x, v, q, L and the body-frame prisms (module docstring)."""
 
     def __init__(self, polygons, thickness, *, density: float = 920.0, base=None, velocity=(0.0, 0.0, 0.0),
-                 law: FloeLaw | None = None):
+                 law: FloeLaw | None = None, water: FloeWater | None = None):
         """polygons: convex (k, 2) [m] counter-clockwise; thickness (n,) [m]; base (n,) the z of each
-        floe's bottom [m] (default: -density/1025 of its thickness, afloat)."""
+        floe's bottom [m] (default: -density/1025 of its thickness, afloat); water: None (no water,
+        no gravity) or FloeWater."""
         n = len(polygons)
         self.law = law or FloeLaw()
+        self.water = water
+        self.area = np.array([polygon_area(np.asarray(p, float)) for p in polygons])
         self.gid = np.arange(n, dtype=np.int64)
         self.x, self.v, self.L = np.zeros((n, 3)), np.tile(np.asarray(velocity, float), (n, 1)), np.zeros((n, 3))
         self.q = np.zeros((n, 4))
@@ -109,9 +128,16 @@ class Floes:
         self.torque[:] = 0.0
         pts, counts = self.world()
         law = self.law
-        self.stats = floe_contacts(len(self.mass), self.gid, self.x, self.v, self.omega, self.mass, self.bound,
+        omega = self.omega
+        self.stats = floe_contacts(len(self.mass), self.gid, self.x, self.v, omega, self.mass, self.bound,
                                    pts, counts, law.kn, law.cn, law.kt, law.mu, law.pressure, dt, self.step_count,
                                    self.cgid, self.stamp, self.hist, self.force, self.torque)
+        w = self.water
+        if w is not None:
+            rot = np.array([rotation_matrix(self.q[k]) for k in range(len(self.mass))])
+            floe_water(len(self.mass), self.x, self.v, omega, rot, self.mass, self.inertia, self.area, pts, counts,
+                       w.level, w.density, w.gravity, np.asarray(w.current, float), w.skin, w.form, w.damping_ratio,
+                       self.force, self.torque)
 
     def step(self, dt: float) -> None:
         """Velocity Verlet: half kick, drift with the exact free rotation, forces, half kick."""

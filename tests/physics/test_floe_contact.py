@@ -119,3 +119,52 @@ def test_glancing_contact_conserves_angular_momentum():
     scale = floes.mass[0] * 1.0
     assert np.abs(p1 - p0).max() <= 1e-9 * scale and np.abs(l1 - l0).max() <= 1e-9 * scale * SIDE
     assert np.abs(floes.omega[:, 2]).max() > 1e-5  # it did turn them
+
+
+def test_floe_floats_at_its_archimedes_draft_and_heaves_at_its_period():
+    """A 30 m x 30 m x 2.6 m floe released 0.1 m too high in still water (references: Archimedes, the
+    draft rho_i / rho_w h; the heave period 2 pi sqrt(m / (rho_w g A)) of a wall-sided body without
+    added mass, which this model does not carry yet). With 1 % damping the period is measured from
+    the upward crossings of ten cycles (the damping shifts it by 5e-5, the step of T/200 by 4e-5:
+    0.5 % covers both and the crossings' interpolation); with 30 % it settles to the draft within
+    0.5 % (the issue's check for a block, issue 15)."""
+    from pice.physics.floes import FloeWater
+
+    eq = -H * RHO / 1025.0 + 0.5 * H  # the centre's height at rest [m]
+    for zeta, cycles in ((0.01, 10), (0.3, 30)):
+        floes = Floes([_square(0.0, 0.0)], [H], density=RHO, base=[eq - 0.5 * H + 0.1],  # within the freeboard
+                      water=FloeWater(damping_ratio=zeta))
+        period = 2.0 * math.pi * math.sqrt(floes.mass[0] / (1025.0 * 9.81 * SIDE * SIDE))
+        dt = period / 200.0
+        floes.compute_forces(dt)
+        z = []
+        for _ in range(int(cycles * period / dt)):
+            floes.step(dt)
+            z.append(floes.x[0, 2] - eq)
+        z = np.array(z)
+        if zeta < 0.1:
+            up = np.nonzero((z[:-1] < 0.0) & (z[1:] >= 0.0))[0]
+            t_up = (up + z[up] / (z[up] - z[up + 1])) * dt  # linear interpolation of each crossing
+            assert np.diff(t_up).mean() == pytest.approx(period, rel=5e-3)
+        else:
+            draft = 0.5 * H - (floes.x[0, 2])
+            assert draft == pytest.approx(H * RHO / 1025.0, rel=5e-3)
+            assert abs(z[-1]) < 1e-3 * H
+
+
+def test_floe_drifts_with_the_current():
+    """In a current of 0.4 m/s (seed 003) a floe at rest is pulled by the quadratic drag D |u| u, D =
+    rho_w (C_w A + C_d draft b / 2) (kernels/floe_hydro.py), whose solution for the relative speed
+    is u(t) = u0 / (1 + u0 D t / m): the floe's speed after 1,000 s within 0.5 % of it."""
+    from pice.physics.floes import FloeWater
+
+    draft = H * RHO / 1025.0
+    floes = Floes([_square(0.0, 0.0)], [H], density=RHO, base=[-draft], water=FloeWater(current=(0.4, 0.0)))
+    dt, t_end = 0.05, 1000.0
+    floes.compute_forces(dt)
+    for _ in range(int(round(t_end / dt))):
+        floes.step(dt)
+    d = 1025.0 * (0.0055 * SIDE * SIDE + 0.5 * 1.0 * draft * SIDE)
+    expected = 0.4 - 0.4 / (1.0 + 0.4 * d * t_end / floes.mass[0])
+    assert floes.v[0, 0] == pytest.approx(expected, rel=5e-3)
+    assert abs(floes.v[0, 1]) < 1e-9
