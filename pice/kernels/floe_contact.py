@@ -74,3 +74,52 @@ def floe_contacts(n, gid, x, v, omega, mass, bound, pts, counts, kn, cn, kt, mu,
             torque[b] += np.cross(rb, f)
             torque[a] -= np.cross(ra, f)
     return ncontact, nplastic, worst
+
+
+@njit(**JIT)
+def structure_contacts(n, x, v, omega, mass, bound, pts, counts, s_pts, s_counts, s_centre, s_bound, kn, cn, kt,
+                       mu, pressure, dt, step, slot_gid, cgid, stamp, hist, force, torque):
+    """Add the contact of every floe with a fixed convex structure (s_pts, s_counts: its faces in
+    space; s_centre, s_bound: its bounding sphere [m]): the law of ``floe_contacts`` with the floe's
+    own mass as m_eff. The history is kept in the floe's slot keyed by ``slot_gid`` (a negative key,
+    distinct from every floe's gid). Returns (load on the structure (6,): force [N] and moment about
+    s_centre [N m], contacts, contacts in plastic flow)."""
+    load = np.zeros(6)
+    ncontact = 0
+    nplastic = 0
+    for i in range(n):
+        d = x[i] - s_centre
+        reach = bound[i] + s_bound
+        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach:
+            continue
+        vol, c, nrm, area, depth = contact_geometry(pts[i], counts[i], s_pts, s_counts)
+        if vol <= 0.0:
+            continue
+        ncontact += 1
+        r = c - x[i]
+        # the structure is still: the floe's material at the contact point relative to it, seen from the
+        # structure (the law's "element" is the floe, its normal from the structure towards the floe)
+        n0, n1, n2 = -nrm[0], -nrm[1], -nrm[2]
+        u = v[i] + np.cross(omega[i], r)
+        un = u[0] * n0 + u[1] * n1 + u[2] * n2
+        s, found = _find_slot(cgid, stamp, i, slot_gid, step)
+        h0 = hist[i, s, 0] if found else 0.0
+        h1 = hist[i, s, 1] if found else 0.0
+        h2 = hist[i, s, 2] if found else 0.0
+        dp0 = hist[i, s, 3] if found else 0.0
+        zeta = cn / (2.0 * math.sqrt(mass[i] * kn)) if kn > 0.0 else 0.0
+        fn, dp = plastic_normal_force(kn, zeta, mass[i], depth, dp0, un, pressure * area)
+        t0, t1, t2, _ = tangential_force(h0, h1, h2, n0, n1, n2, u[0], u[1], u[2], un, kt, dt, mu * fn)
+        if dp > dp0:
+            nplastic += 1
+        if s >= 0:
+            cgid[i, s] = slot_gid
+            stamp[i, s] = step
+            hist[i, s, 0], hist[i, s, 1], hist[i, s, 2], hist[i, s, 3] = t0, t1, t2, dp
+        f = np.array([fn * n0 + t0, fn * n1 + t1, fn * n2 + t2])  # on the floe
+        force[i] += f
+        torque[i] += np.cross(r, f)
+        arm = c - s_centre
+        load[:3] -= f
+        load[3:] -= np.cross(arm, f)
+    return load, ncontact, nplastic

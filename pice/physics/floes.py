@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kernels.floe_contact import floe_contacts
+from ..kernels.floe_contact import floe_contacts, structure_contacts
 from ..kernels.floe_hydro import floe_water
 from ..kernels.geometry import rotation_matrix
 from ..kernels.polyhedra import prism
@@ -108,6 +108,19 @@ class Floes:
         self.hist = np.zeros((n, MAX_CONTACTS, 4))
         self.step_count = 0
         self.stats = (0, 0, 0.0)
+        self.structures = []  # fixed convex structures: (pts, counts, centre, bound)
+        self.structure_load = np.zeros((0, 6))
+
+    def add_structure(self, vertices: np.ndarray, triangles: np.ndarray) -> None:
+        """A fixed convex structure (a closed, outward triangle mesh in space [m], e.g. a revolved hull):
+        every triangle is a face (coplanar ones clip once). Its load is ``structure_load[k]``."""
+        v = np.asarray(vertices, float)
+        pts = np.zeros((len(triangles), 3, 3))
+        pts[:] = v[np.asarray(triangles)]
+        centre = v.mean(axis=0)
+        bound = float(np.linalg.norm(v - centre, axis=1).max())
+        self.structures.append((pts, np.full(len(triangles), 3, np.int64), centre, bound))
+        self.structure_load = np.zeros((len(self.structures), 6))
 
     @property
     def omega(self) -> np.ndarray:
@@ -132,6 +145,12 @@ class Floes:
         self.stats = floe_contacts(len(self.mass), self.gid, self.x, self.v, omega, self.mass, self.bound,
                                    pts, counts, law.kn, law.cn, law.kt, law.mu, law.pressure, dt, self.step_count,
                                    self.cgid, self.stamp, self.hist, self.force, self.torque)
+        for k, (s_pts, s_counts, centre, bound) in enumerate(self.structures):
+            load, _, _ = structure_contacts(len(self.mass), self.x, self.v, omega, self.mass, self.bound, pts,
+                                            counts, s_pts, s_counts, centre, bound, law.kn, law.cn, law.kt, law.mu,
+                                            law.pressure, dt, self.step_count, -1 - k, self.cgid, self.stamp,
+                                            self.hist, self.force, self.torque)
+            self.structure_load[k] = load
         w = self.water
         if w is not None:
             rot = np.array([rotation_matrix(self.q[k]) for k in range(len(self.mass))])

@@ -168,3 +168,34 @@ def test_floe_drifts_with_the_current():
     expected = 0.4 - 0.4 / (1.0 + 0.4 * d * t_end / floes.mass[0])
     assert floes.v[0, 0] == pytest.approx(expected, rel=5e-3)
     assert abs(floes.v[0, 1]) < 1e-9
+
+
+def test_floe_against_a_fixed_cone_impulse_and_cap():
+    """A floe drifting at 0.4 m/s onto a fixed cone (a revolved hull, convex: 35 m at the waterline,
+    31 m at the keel, like the Kulluk's, seed 003 Table 1), no water: the impulse the structure
+    takes equals the floe's loss of momentum (Newton's third law, 1e-9 of m |v|), and the normal
+    force stays within sigma_c A_c (with a sigma_c low enough to reach it)."""
+    from pice.platform.hulls import revolved
+
+    v_hull, t_hull = revolved([(-12.5, 31.0), (-10.06, 31.0), (0.0, 35.0), (9.0, 40.5)], 24)
+    law = FloeLaw(pressure=5.0e3)
+    floes = Floes([_square(-35.0 - 0.5 * SIDE - 0.3, 0.0)], [H], density=RHO, base=[-2.3], law=law)
+    floes.add_structure(v_hull, t_hull)
+    floes.v[0, 0] = 0.4
+    m = floes.mass[0]
+    dt = _step_for(law, m)
+    p0 = m * floes.v[0].copy()
+    floes.compute_forces(dt)
+    impulse = np.zeros(3)
+    largest = 0.0
+    for _ in range(int(20.0 / dt)):
+        floes.step(dt)
+        impulse += dt * floes.structure_load[0, :3]
+        largest = max(largest, float(np.linalg.norm(floes.structure_load[0, :3])))
+    assert floes.stats[0] == 0 and np.linalg.norm(floes.structure_load[0]) == 0.0  # apart at the end
+    np.testing.assert_allclose(m * floes.v[0] - p0, -impulse, atol=1e-9 * m * 0.4)
+    assert impulse[0] > 0.5 * m * 0.4  # it was stopped and pushed back (some restitution)
+    # the cap: sigma_c times the largest contact area the face presses on the cone (a chord of the
+    # waterline circle times the submerged part of the floe's face, at most its thickness)
+    assert largest <= law.pressure * SIDE * H * (1 + law.mu)
+    assert floes.hist[0, :, 3].max() > 0.0  # it crushed
