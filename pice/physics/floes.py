@@ -1,6 +1,6 @@
-"""Rigid convex floes: their state, their build from polygons, and their step (issue 14; one rank, still
-water or a current, no waves yet: the contact law, the water and the rigid-body step that the
-broken-ice scenes will use; not yet part of a job or the MPI step).
+"""Rigid convex floes: their state, their build from polygons, and their step (issue 14; one rank: the
+contact law, the water (current, waves) and the rigid-body step that the broken-ice scenes will
+use; not yet part of a job or the MPI step).
 
 A floe is a right prism over a convex polygon (pice/scenes/floe_field.py), rigid: six degrees of
 freedom, the attitude a unit quaternion and the angular momentum carried in space, stepped as the
@@ -37,6 +37,7 @@ class FloeWater:
     skin: float = 0.0055
     form: float = 1.0
     damping_ratio: float = 0.1
+    sea: object = None  # physics.waves.Sea, or None: still water
 
 
 @dataclass
@@ -107,6 +108,7 @@ class Floes:
         self.stamp = np.full((n, MAX_CONTACTS), -10, np.int64)
         self.hist = np.zeros((n, MAX_CONTACTS, 4))
         self.step_count = 0
+        self.time = 0.0  # [s]
         self.stats = (0, 0, 0.0)
         self.structures = []  # fixed convex structures: (pts, counts, centre, bound)
         self.structure_load = np.zeros((0, 6))
@@ -154,9 +156,12 @@ class Floes:
         w = self.water
         if w is not None:
             rot = np.array([rotation_matrix(self.q[k]) for k in range(len(self.mass))])
+            sea = w.sea
+            waves = ((sea.amplitude, sea.omega, sea.k, sea.direction, sea.phase, sea.depth) if sea is not None
+                     else (np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 2)), np.zeros(0), math.inf))
             floe_water(len(self.mass), self.x, self.v, omega, rot, self.mass, self.inertia, self.area, pts, counts,
                        w.level, w.density, w.gravity, np.asarray(w.current, float), w.skin, w.form, w.damping_ratio,
-                       self.force, self.torque)
+                       *waves, self.time, self.force, self.torque)
 
     def step(self, dt: float) -> None:
         """Velocity Verlet: half kick, drift with the exact free rotation, forces, half kick."""
@@ -167,6 +172,7 @@ class Floes:
         for k in range(len(self.mass)):
             self.q[k] = free_rotation(self.q[k], self.L[k], self.inertia[k], dt)
         self.step_count += 1
+        self.time += dt
         self.compute_forces(dt)
         self.v += h * self.force / self.mass[:, None]
         self.L += h * self.torque

@@ -199,3 +199,31 @@ def test_floe_against_a_fixed_cone_impulse_and_cap():
     # waterline circle times the submerged part of the floe's face, at most its thickness)
     assert largest <= law.pressure * SIDE * H * (1 + law.mu)
     assert floes.hist[0, :, 3].max() > 0.0  # it crushed
+
+
+def test_floe_heaves_with_long_waves():
+    """A 30 m floe in a regular wave of 20 s and 2 m height in 52 m of water (seed 003's wave; the
+    wavelength 410 m is 14 floe lengths) follows the surface: heave amplitude / wave amplitude within
+    5 % of 1 (the issue's check: a response near 1 for waves much longer than the body). Reference:
+    for a wall-sided body without added mass, quasi-static in a long wave, the response is
+    e^(-k d) / (1 - (T_n / T)^2) = 0.996 here (T_n = 3.06 s, d the draft); the Froude-Krylov
+    pressure at the face centroids makes the rest."""
+    from pice.physics.floes import FloeWater
+    from pice.physics.waves import Sea
+
+    sea = Sea.regular(height=2.0, period=20.0, depth=52.0, density=1025.0)
+    draft = H * RHO / 1025.0
+    floes = Floes([_square(0.0, 0.0)], [H], density=RHO, base=[-draft],
+                  water=FloeWater(sea=sea, damping_ratio=0.1, skin=0.0, form=0.0))
+    dt = 0.05
+    floes.compute_forces(dt)
+    z, eta = [], []
+    for _ in range(int(120.0 / dt)):
+        floes.step(dt)
+        if floes.time > 60.0:  # after the start-up transient
+            z.append(floes.x[0, 2])
+            eta.append(sea.elevation(floes.x[0, 0], floes.x[0, 1], floes.time))
+    z, eta = np.array(z), np.array(eta)
+    response = 0.5 * (z.max() - z.min()) / 1.0
+    assert response == pytest.approx(1.0, abs=0.05)
+    assert np.corrcoef(z, eta)[0, 1] > 0.99  # in phase with the surface
