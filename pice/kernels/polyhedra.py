@@ -192,9 +192,38 @@ def volume_centroid(pts, counts):
 
 
 @njit(**JIT)
+def _beyond(normal, offset, pts, counts):
+    """True when every vertex of (pts, counts) lies beyond the plane normal . x = offset (by EPS)."""
+    for f in range(counts.shape[0]):
+        for i in range(counts[f]):
+            if normal[0] * pts[f, i, 0] + normal[1] * pts[f, i, 1] + normal[2] * pts[f, i, 2] - offset <= EPS:
+                return False
+    return True
+
+
+@njit(**JIT)
+def separated(a_pts, a_counts, b_pts, b_counts):
+    """True when a face plane of A or of B has the other body wholly outside it: the two cannot overlap.
+    (False does not prove an overlap: ``overlap`` decides; this is the cheap test first.)"""
+    for f in range(a_counts.shape[0]):
+        if a_counts[f] >= 3:
+            normal, offset = face_plane(a_pts[f], a_counts[f])
+            if _beyond(normal, offset, b_pts, b_counts):
+                return True
+    for f in range(b_counts.shape[0]):
+        if b_counts[f] >= 3:
+            normal, offset = face_plane(b_pts[f], b_counts[f])
+            if _beyond(normal, offset, a_pts, a_counts):
+                return True
+    return False
+
+
+@njit(**JIT)
 def contact_geometry(a_pts, a_counts, b_pts, b_counts):
     """(overlap volume [m^3], its centroid (3,) [m], unit normal from A towards B, contact area A_c
     [m^2], depth delta = V / A_c [m]) of two convex polyhedra (module docstring); volume 0 when apart."""
+    if separated(a_pts, a_counts, b_pts, b_counts):
+        return 0.0, np.full(3, np.nan), np.zeros(3), 0.0, 0.0
     pts, counts, side = overlap(a_pts, a_counts, b_pts, b_counts)
     vol, centre = volume_centroid(pts, counts)
     normal = np.zeros(3)
