@@ -116,7 +116,7 @@ def clip(pts, counts, side, normal, offset, tag):
                 outside = True
     if not outside:
         return pts, counts, side
-    nxt = np.zeros_like(pts)
+    nxt = np.empty_like(pts)  # only the first counts[f] points of a face are ever read
     ncounts = np.zeros(n_faces, np.int64)
     nside = np.zeros(n_faces, np.int64)
     tmp = np.empty((pts.shape[1], 3))

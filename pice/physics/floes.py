@@ -18,9 +18,8 @@ import numpy as np
 
 from ..kernels.floe_contact import floe_contacts, structure_contacts
 from ..kernels.floe_hydro import floe_water
-from ..kernels.geometry import rotation_matrix
+from ..kernels.floe_motion import floe_omegas, floe_rotations, turn_all, world_polyhedra
 from ..kernels.polyhedra import prism
-from ..platform.rigid_body import angular_velocity, free_rotation
 from ..scenes.floe_field import polygon_area, polygon_centroid
 from ..state import MAX_CONTACTS
 
@@ -103,6 +102,8 @@ class Floes:
             local = (poly - centre) @ np.array([[c, -s], [s, c]])  # into the principal axes
             self.body.append(prism(local, -0.5 * thickness[k], 0.5 * thickness[k]))
             self.bound[k] = math.hypot(np.linalg.norm(local, axis=1).max(), 0.5 * thickness[k])
+        self.body_pts = np.array([b[0] for b in self.body])
+        self.body_counts = np.array([b[1] for b in self.body])
         self.force, self.torque = np.zeros((n, 3)), np.zeros((n, 3))
         self.cgid = np.full((n, MAX_CONTACTS), -1, np.int64)
         self.stamp = np.full((n, MAX_CONTACTS), -10, np.int64)
@@ -126,17 +127,11 @@ class Floes:
 
     @property
     def omega(self) -> np.ndarray:
-        return np.array([angular_velocity(self.q[k], self.L[k], self.inertia[k]) for k in range(len(self.mass))])
+        return floe_omegas(self.q, self.L, self.inertia)
 
     def world(self):
         """(pts, counts) of every floe's prism at its pose."""
-        pts = np.array([b[0] for b in self.body])
-        counts = np.array([b[1] for b in self.body])
-        for k in range(len(self.mass)):
-            R = rotation_matrix(self.q[k])
-            used = counts[k] > 0
-            pts[k, used] = pts[k, used] @ R.T + self.x[k]
-        return pts, counts
+        return world_polyhedra(self.body_pts, self.body_counts, self.x, self.q), self.body_counts
 
     def compute_forces(self, dt: float) -> None:
         self.force[:] = 0.0
@@ -155,7 +150,7 @@ class Floes:
             self.structure_load[k] = load
         w = self.water
         if w is not None:
-            rot = np.array([rotation_matrix(self.q[k]) for k in range(len(self.mass))])
+            rot = floe_rotations(self.q)
             sea = w.sea
             waves = ((sea.amplitude, sea.omega, sea.k, sea.direction, sea.phase, sea.depth) if sea is not None
                      else (np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 2)), np.zeros(0), math.inf))
@@ -169,8 +164,7 @@ class Floes:
         self.v += h * self.force / self.mass[:, None]
         self.L += h * self.torque
         self.x += dt * self.v
-        for k in range(len(self.mass)):
-            self.q[k] = free_rotation(self.q[k], self.L[k], self.inertia[k], dt)
+        turn_all(self.q, self.L, self.inertia, dt)
         self.step_count += 1
         self.time += dt
         self.compute_forces(dt)
