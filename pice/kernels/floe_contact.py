@@ -23,7 +23,7 @@ from numba import njit
 from . import JIT
 from .contact_law import plastic_normal_force, tangential_force
 from .contacts import _find_slot
-from .polyhedra import contact_geometry
+from .polyhedra import contact_geometry, face_planes, separated_by_planes
 
 
 @njit(**JIT)
@@ -36,11 +36,15 @@ def floe_contacts(n, gid, x, v, omega, mass, bound, pts, counts, kn, cn, kt, mu,
     ncontact = 0
     nplastic = 0
     worst = 0.0
+    planes = face_planes(pts, counts)
     for i in range(n):
         for j in range(i + 1, n):
             d = x[j] - x[i]
             reach = bound[i] + bound[j]
             if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach:
+                continue
+            if (separated_by_planes(planes[i], counts[i], pts[j], counts[j])
+                    or separated_by_planes(planes[j], counts[j], pts[i], counts[i])):
                 continue
             a, b = (i, j) if gid[i] < gid[j] else (j, i)
             vol, c, nrm, area, depth = contact_geometry(pts[a], counts[a], pts[b], counts[b])
