@@ -81,13 +81,15 @@ def floe_contacts(n, gid, x, v, omega, mass, bound, pts, counts, kn, cn, kt, mu,
 
 
 @njit(**JIT)
-def structure_contacts(n, x, v, omega, mass, bound, pts, counts, s_pts, s_counts, s_centre, s_bound, kn, cn, kt,
-                       mu, pressure, dt, step, slot_gid, cgid, stamp, hist, force, torque):
-    """Add the contact of every floe with a fixed convex structure (s_pts, s_counts: its faces in
-    space; s_centre, s_bound: its bounding sphere [m]): the law of ``floe_contacts`` with the floe's
-    own mass as m_eff. The history is kept in the floe's slot keyed by ``slot_gid`` (a negative key,
-    distinct from every floe's gid). Returns (load on the structure (6,): force [N] and moment about
-    s_centre [N m], contacts, contacts in plastic flow)."""
+def structure_contacts(n, x, v, omega, mass, bound, pts, counts, s_pts, s_counts, s_centre, s_bound, s_v, s_w,
+                       kn, cn, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist, force, torque):
+    """Add the contact of every floe with a convex structure (s_pts, s_counts: its faces in space;
+    s_centre [m]: its reference point, the centre of its bounding sphere of radius s_bound and of
+    its motion: velocity s_v [m/s] and angular velocity s_w [rad/s] there; zero for a fixed one):
+    the law of ``floe_contacts`` with the floe's own mass as m_eff. The history is kept in the
+    floe's slot keyed by ``slot_gid`` (a negative key, distinct from every floe's gid). Returns
+    (load on the structure (6,): force [N] and moment about s_centre [N m], contacts, contacts in
+    plastic flow)."""
     load = np.zeros(6)
     ncontact = 0
     nplastic = 0
@@ -101,10 +103,10 @@ def structure_contacts(n, x, v, omega, mass, bound, pts, counts, s_pts, s_counts
             continue
         ncontact += 1
         r = c - x[i]
-        # the structure is still: the floe's material at the contact point relative to it, seen from the
-        # structure (the law's "element" is the floe, its normal from the structure towards the floe)
+        # the floe's material at the contact point relative to the structure's (the law's "element" is
+        # the floe, its normal from the structure towards the floe)
         n0, n1, n2 = -nrm[0], -nrm[1], -nrm[2]
-        u = v[i] + np.cross(omega[i], r)
+        u = v[i] + np.cross(omega[i], r) - (s_v + np.cross(s_w, c - s_centre))
         un = u[0] * n0 + u[1] * n1 + u[2] * n2
         s, found = _find_slot(cgid, stamp, i, slot_gid, step)
         h0 = hist[i, s, 0] if found else 0.0

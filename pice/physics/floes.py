@@ -114,16 +114,26 @@ class Floes:
         self.structures = []  # fixed convex structures: (pts, counts, centre, bound)
         self.structure_load = np.zeros((0, 6))
 
-    def add_structure(self, vertices: np.ndarray, triangles: np.ndarray) -> None:
-        """A fixed convex structure (a closed, outward triangle mesh in space [m], e.g. a revolved hull):
-        every triangle is a face (coplanar ones clip once). Its load is ``structure_load[k]``."""
+    def add_structure(self, vertices: np.ndarray, triangles: np.ndarray, centre=None) -> None:
+        """A convex structure: a closed, outward triangle mesh [m] (e.g. a revolved hull) in the frame of
+        its reference point ``centre`` (default: the mean of its vertices), placed at that point, still.
+        Every triangle is a face (coplanar ones clip once). ``move_structure`` sets its pose and
+        motion; its load (force, moment about the reference point) is ``structure_load[k]``."""
         v = np.asarray(vertices, float)
-        pts = np.zeros((len(triangles), 3, 3))
-        pts[:] = v[np.asarray(triangles)]
-        centre = v.mean(axis=0)
+        centre = v.mean(axis=0) if centre is None else np.asarray(centre, float)
+        local = np.zeros((len(triangles), 3, 3))
+        local[:] = (v - centre)[np.asarray(triangles)]
         bound = float(np.linalg.norm(v - centre, axis=1).max())
-        self.structures.append((pts, np.full(len(triangles), 3, np.int64), centre, bound))
+        self.structures.append({"local": local, "counts": np.full(len(triangles), 3, np.int64), "bound": bound,
+                                "x": centre.copy(), "q": np.array([1.0, 0.0, 0.0, 0.0]), "v": np.zeros(3),
+                                "w": np.zeros(3)})
         self.structure_load = np.zeros((len(self.structures), 6))
+
+    def move_structure(self, k: int, *, x, q, v, w) -> None:
+        """Pose (reference point x [m], attitude q) and motion (v [m/s], w [rad/s]) of structure k."""
+        s = self.structures[k]
+        s["x"], s["q"] = np.asarray(x, float).copy(), np.asarray(q, float).copy()
+        s["v"], s["w"] = np.asarray(v, float).copy(), np.asarray(w, float).copy()
 
     @property
     def omega(self) -> np.ndarray:
@@ -142,11 +152,12 @@ class Floes:
         self.stats = floe_contacts(len(self.mass), self.gid, self.x, self.v, omega, self.mass, self.bound,
                                    pts, counts, law.kn, law.cn, law.kt, law.mu, law.pressure, dt, self.step_count,
                                    self.cgid, self.stamp, self.hist, self.force, self.torque)
-        for k, (s_pts, s_counts, centre, bound) in enumerate(self.structures):
+        for k, st in enumerate(self.structures):
+            s_pts = world_polyhedra(st["local"][None], st["counts"][None], st["x"][None], st["q"][None])[0]
             load, _, _ = structure_contacts(len(self.mass), self.x, self.v, omega, self.mass, self.bound, pts,
-                                            counts, s_pts, s_counts, centre, bound, law.kn, law.cn, law.kt, law.mu,
-                                            law.pressure, dt, self.step_count, -1 - k, self.cgid, self.stamp,
-                                            self.hist, self.force, self.torque)
+                                            counts, s_pts, st["counts"], st["x"], st["bound"], st["v"], st["w"],
+                                            law.kn, law.cn, law.kt, law.mu, law.pressure, dt, self.step_count,
+                                            -1 - k, self.cgid, self.stamp, self.hist, self.force, self.torque)
             self.structure_load[k] = load
         w = self.water
         if w is not None:

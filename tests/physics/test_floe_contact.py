@@ -227,3 +227,29 @@ def test_floe_heaves_with_long_waves():
     response = 0.5 * (z.max() - z.min()) / 1.0
     assert response == pytest.approx(1.0, abs=0.05)
     assert np.corrcoef(z, eta)[0, 1] > 0.99  # in phase with the surface
+
+
+def test_floe_and_a_free_cone_share_their_momentum():
+    """The floe of the fixed-cone test against the same cone free to move (a body of 28,000 t, seed
+    003's Kulluk, stepped with the same velocity Verlet, translation only; no water): the floe's
+    and the cone's momenta sum to their start to 1e-9 of m |v| (the moving structure's velocity
+    enters the contact's relative velocity; Newton's third law holds between them)."""
+    from pice.platform.hulls import revolved
+
+    v_hull, t_hull = revolved([(-12.5, 31.0), (-10.06, 31.0), (0.0, 35.0), (9.0, 40.5)], 24)
+    floes = Floes([_square(-35.0 - 0.5 * SIDE - 0.3, 0.0)], [H], density=RHO, base=[-2.3], law=FloeLaw())
+    floes.add_structure(v_hull, t_hull, centre=np.zeros(3))
+    floes.v[0, 0] = 0.4
+    big, x_s, v_s = 2.8e7, np.zeros(3), np.zeros(3)
+    dt = _step_for(floes.law, floes.mass[0])
+    total0 = floes.mass[0] * floes.v[0] + big * v_s
+    floes.compute_forces(dt)
+    for _ in range(int(20.0 / dt)):
+        v_s = v_s + 0.5 * dt * floes.structure_load[0, :3] / big
+        x_s = x_s + dt * v_s
+        floes.move_structure(0, x=x_s, q=[1.0, 0.0, 0.0, 0.0], v=v_s, w=np.zeros(3))
+        floes.step(dt)
+        v_s = v_s + 0.5 * dt * floes.structure_load[0, :3] / big
+    total = floes.mass[0] * floes.v[0] + big * v_s
+    np.testing.assert_allclose(total, total0, atol=1e-9 * floes.mass[0] * 0.4)
+    assert v_s[0] > 0.0 and floes.v[0, 0] < 0.4  # the cone was pushed, the floe slowed
