@@ -22,7 +22,7 @@ from numba import njit
 
 from . import JIT
 from .contact_law import plastic_normal_force, tangential_force
-from .contacts import _find_slot
+from .contacts import _cell_index, _find_slot, build_cell_list
 from .polyhedra import contact_geometry, face_planes, separated_by_planes
 
 
@@ -30,53 +30,77 @@ from .polyhedra import contact_geometry, face_planes, separated_by_planes
 def floe_contacts(n, gid, x, v, omega, mass, bound, pts, counts, kn, cn, kt, mu, pressure, dt, step,
                   cgid, stamp, hist, force, torque):
     """Add the contact forces [N] and torques about each centroid [N m] of every overlapping pair of
-    the n floes. pts, counts: (n, MAX_FACES, MAX_FACE_VERTS, 3), (n, MAX_FACES) world polyhedra; bound:
+    the n floes, the candidates from a cell list of their centres (cells of the largest bounding
+    diameter). pts, counts: (n, MAX_FACES, MAX_FACE_VERTS, 3), (n, MAX_FACES) world polyhedra; bound:
     (n,) bounding radius about x [m]. Returns (contacts, contacts in plastic flow, largest overlap
     volume [m^3])."""
     ncontact = 0
     nplastic = 0
     worst = 0.0
+    if n == 0:
+        return ncontact, nplastic, worst
     planes = face_planes(pts, counts)
+    size = 2.0 * bound[:n].max() * 1.0001
+    origin, dims, start, order, size = build_cell_list(x, n, size)
     for i in range(n):
-        for j in range(i + 1, n):
-            d = x[j] - x[i]
-            reach = bound[i] + bound[j]
-            if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach:
-                continue
-            if (separated_by_planes(planes[i], counts[i], pts[j], counts[j])
-                    or separated_by_planes(planes[j], counts[j], pts[i], counts[i])):
-                continue
-            a, b = (i, j) if gid[i] < gid[j] else (j, i)
-            vol, c, nrm, area, depth = contact_geometry(pts[a], counts[a], pts[b], counts[b])
-            if vol <= 0.0:
-                continue
-            ncontact += 1
-            worst = max(worst, vol)
-            ra, rb = c - x[a], c - x[b]
-            # velocity of b's material at the contact point relative to a's
-            u = (v[b] + np.cross(omega[b], rb)) - (v[a] + np.cross(omega[a], ra))
-            un = u[0] * nrm[0] + u[1] * nrm[1] + u[2] * nrm[2]
-            s, found = _find_slot(cgid, stamp, a, gid[b], step)
-            h0 = hist[a, s, 0] if found else 0.0
-            h1 = hist[a, s, 1] if found else 0.0
-            h2 = hist[a, s, 2] if found else 0.0
-            dp0 = hist[a, s, 3] if found else 0.0
-            m_eff = mass[a] * mass[b] / (mass[a] + mass[b])
-            zeta = cn / (2.0 * math.sqrt(m_eff * kn)) if kn > 0.0 else 0.0
-            fn, dp = plastic_normal_force(kn, zeta, m_eff, depth, dp0, un, pressure * area)
-            t0, t1, t2, _ = tangential_force(h0, h1, h2, nrm[0], nrm[1], nrm[2], u[0], u[1], u[2], un, kt, dt,
-                                             mu * fn)
-            if dp > dp0:
-                nplastic += 1
-            if s >= 0:
-                cgid[a, s] = gid[b]
-                stamp[a, s] = step
-                hist[a, s, 0], hist[a, s, 1], hist[a, s, 2], hist[a, s, 3] = t0, t1, t2, dp
-            f = fn * nrm + np.array([t0, t1, t2])
-            force[b] += f
-            force[a] -= f
-            torque[b] += np.cross(rb, f)
-            torque[a] -= np.cross(ra, f)
+        cx = _cell_index((x[i, 0] - origin[0]) / size, dims[0])
+        cy = _cell_index((x[i, 1] - origin[1]) / size, dims[1])
+        cz = _cell_index((x[i, 2] - origin[2]) / size, dims[2])
+        for zz in range(max(cz - 1, 0), min(cz + 2, dims[2])):
+            for yy in range(max(cy - 1, 0), min(cy + 2, dims[1])):
+                for xx in range(max(cx - 1, 0), min(cx + 2, dims[0])):
+                    cell = (zz * dims[1] + yy) * dims[0] + xx
+                    for p in range(start[cell], start[cell + 1]):
+                        j = order[p]
+                        if j <= i:
+                            continue
+                        ncontact, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes,
+                                                          kn, cn, kt, mu, pressure, dt, step, cgid, stamp, hist,
+                                                          force, torque, ncontact, nplastic, worst)
+    return ncontact, nplastic, worst
+
+
+@njit(**JIT)
+def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, mu, pressure, dt, step, cgid,
+          stamp, hist, force, torque, ncontact, nplastic, worst):
+    """The contact of floes i and j, if they overlap (``floe_contacts``); returns the updated counts."""
+    d = x[j] - x[i]
+    reach = bound[i] + bound[j]
+    if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach:
+        return ncontact, nplastic, worst
+    if (separated_by_planes(planes[i], counts[i], pts[j], counts[j])
+            or separated_by_planes(planes[j], counts[j], pts[i], counts[i])):
+        return ncontact, nplastic, worst
+    a, b = (i, j) if gid[i] < gid[j] else (j, i)
+    vol, c, nrm, area, depth = contact_geometry(pts[a], counts[a], pts[b], counts[b])
+    if vol <= 0.0:
+        return ncontact, nplastic, worst
+    ncontact += 1
+    worst = max(worst, vol)
+    ra, rb = c - x[a], c - x[b]
+    # velocity of b's material at the contact point relative to a's
+    u = (v[b] + np.cross(omega[b], rb)) - (v[a] + np.cross(omega[a], ra))
+    un = u[0] * nrm[0] + u[1] * nrm[1] + u[2] * nrm[2]
+    s, found = _find_slot(cgid, stamp, a, gid[b], step)
+    h0 = hist[a, s, 0] if found else 0.0
+    h1 = hist[a, s, 1] if found else 0.0
+    h2 = hist[a, s, 2] if found else 0.0
+    dp0 = hist[a, s, 3] if found else 0.0
+    m_eff = mass[a] * mass[b] / (mass[a] + mass[b])
+    zeta = cn / (2.0 * math.sqrt(m_eff * kn)) if kn > 0.0 else 0.0
+    fn, dp = plastic_normal_force(kn, zeta, m_eff, depth, dp0, un, pressure * area)
+    t0, t1, t2, _ = tangential_force(h0, h1, h2, nrm[0], nrm[1], nrm[2], u[0], u[1], u[2], un, kt, dt, mu * fn)
+    if dp > dp0:
+        nplastic += 1
+    if s >= 0:
+        cgid[a, s] = gid[b]
+        stamp[a, s] = step
+        hist[a, s, 0], hist[a, s, 1], hist[a, s, 2], hist[a, s, 3] = t0, t1, t2, dp
+    f = fn * nrm + np.array([t0, t1, t2])
+    force[b] += f
+    force[a] -= f
+    torque[b] += np.cross(rb, f)
+    torque[a] -= np.cross(ra, f)
     return ncontact, nplastic, worst
 
 
