@@ -117,3 +117,22 @@ def test_design_sweep_drafts_against_table_6_2():
                 assert draft >= table - 0.006, (alpha, d_max)
                 deeper += 1
     assert compared == 47 and deeper + sunk == 17  # of the 64 designs of the table
+
+
+def test_mooring_chain_of_table_4_3():
+    """The buoy's single chain (Cai 2018, Table 4-3: 27.76 m from the seabed to the fairlead, 37.98 kg/m
+    submerged, 138.8 m, 25.4 kN at the fairlead) laid out by pice's catenary (platform/catenary.py, the
+    layout solve that places anchors): the suspended length 54.90 m, the horizontal suspended span
+    45 m (the table's "initial horizontal suspended length") and the suspended chain's 2.09 t come
+    out within 0.5 % (the table's 3-4 digits; a chain of 0.0445 m wire is stiff: EA 1e12 N makes it
+    inextensible, as the thesis's catenary is)."""
+    from pice.platform.catenary import Segment, anchor_distance
+
+    w = 37.98 * 9.81  # [N/m] submerged
+    chain = [Segment(138.8, w, 1.0e12)]
+    x, state = anchor_distance(chain, vertical=27.76, fairlead_tension=2.54e4)
+    suspended = 138.8 - state.grounded_length
+    assert suspended == pytest.approx(54.90, rel=5e-3)
+    assert x - state.grounded_length == pytest.approx(45.0, rel=5e-3)  # the hanging part's span
+    assert 37.98 * suspended == pytest.approx(2.09e3, rel=5e-3)
+    assert state.fairlead_tension == pytest.approx(2.54e4, rel=1e-6)
