@@ -138,7 +138,8 @@ def _cmd_study(args) -> int:
     from .study import run_study
     from .study.report import study_table
 
-    study = run_study(args.job, args.vary, out_dir=args.out, reference=args.reference, settle=args.settle)
+    study = run_study(args.job, args.vary, out_dir=args.out, reference=args.reference, settle=args.settle,
+                      criteria=args.criterion or ())
     if study is not None:  # rank 0
         print("\n".join(study_table(study)))
         print(f"pice: wrote {len(study['variants'])} run(s) and " + ", ".join(pathlib.Path(p).name for p in study["files"])
@@ -311,6 +312,9 @@ def build_parser() -> argparse.ArgumentParser:
                     help="compare with variant K (default: the finest, the most particle-steps)")
     st.add_argument("--settle", type=float, default=0.0, metavar="SECONDS",
                     help="offsets over t >= SECONDS only (default 0)")
+    st.add_argument("--criterion", action="append", metavar="\"METRIC OP NUMBER\"",
+                    help="mark each variant pass or fail, e.g. \"max_pitch_deg < 15\" (metrics named as the "
+                         "CSV's columns, with their unit); several: all must hold")
     st.set_defaults(func=_cmd_study)
     _add_lab_parser(sub)
     _add_bench_parser(sub)

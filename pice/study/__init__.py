@@ -12,6 +12,7 @@ One module per step; each imports only modules listed above it (no import circle
 
     variants.py   --vary parsed and checked against the job; every combination as a job of its own
     metrics.py    the metrics of one run file (io/run_reader.py) and their change against the reference
+    criteria.py   --criterion "max_pitch_deg < 15": each variant marked pass or fail
     plot.py       the figure: each metric's change against the wall time of each variant
     report.py     the printed table, study.csv, study.json and study.png
     runner.py     run_study: set every variant up, run them, measure them, write the report

@@ -8,7 +8,8 @@ the walls when the job has no bodies):
 * ``mean_offset``, ``max_offset`` [m]: horizontal distance of the body's centre from its position
   in the first row, over the rows with t >= ``settle``;
 * ``max_fairlead_tension`` [N]: over every line and row, of ``fairlead_tension_max`` (the peaks
-  between rows) where recorded, else of ``fairlead_tension``.
+  between rows) where recorded, else of ``fairlead_tension``;
+* ``max_pitch``, ``max_roll`` [deg]: the largest |pitch| and |roll| of the body over the rows.
 
 Change against the reference: 100 (v - v_ref) / |v_ref| [%]. A metric a run does not have (no
 body: offsets and tensions) is NaN.
@@ -25,7 +26,8 @@ from ..io.run_reader import open_run
 #: (name, unit, label) of every metric, in the order of the table, the CSV and the figure
 METRICS = (("peak_load_x", "N", "peak ice load Fx"), ("peak_load_z", "N", "peak ice load |Fz|"),
            ("mean_offset", "m", "mean offset"), ("max_offset", "m", "max offset"),
-           ("max_fairlead_tension", "N", "max fairlead tension"))
+           ("max_fairlead_tension", "N", "max fairlead tension"), ("max_pitch", "deg", "max |pitch|"),
+           ("max_roll", "deg", "max |roll|"))
 
 
 def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
@@ -58,6 +60,10 @@ def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
                 out["mean_offset"], out["max_offset"] = float(offset.mean()), float(offset.max())
         if tension is not None and tension.size:
             out["max_fairlead_tension"] = float(tension.max())
+        rotation = get("body_rotation")
+        if rotation is not None and rotation.shape[1] > 0 and len(rotation):
+            out["max_roll"] = float(math.degrees(np.abs(rotation[:, 0, 0]).max()))
+            out["max_pitch"] = float(math.degrees(np.abs(rotation[:, 0, 1]).max()))
     return out
 
 

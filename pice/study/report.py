@@ -18,7 +18,7 @@ from .metrics import METRICS
 from .plot import plot_study
 from .variants import show_value
 
-_TABLE_SCALE = {"N": (1e3, "kN"), "m": (1.0, "m")}
+_TABLE_SCALE = {"N": (1e3, "kN"), "m": (1.0, "m"), "deg": (1.0, "deg")}
 
 
 def study_table(study: dict) -> list[str]:
@@ -40,7 +40,11 @@ def study_table(study: dict) -> list[str]:
             text = f"{value / _TABLE_SCALE[unit][0]:.4g}"
             cells.append(f"{text} (ref)" if row["variant"] == ref else
                          f"{text} ({'n/a' if math.isnan(change) else f'{change:+.2f}%'})")
+        if study.get("criteria"):
+            cells.append("pass" if row["passed"] else "fail: " + "; ".join(row["failed"]))
         body.append(cells)
+    if study.get("criteria"):
+        head.append("criteria (" + ", ".join(study["criteria"]) + ")")
     widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
     lines = ["  ".join(c.rjust(w) for c, w in zip(r, widths)) for r in [head, *body]]
     rule = "reference" if study["reference_rule"] == "--reference" else "reference, the most particle-steps"
@@ -66,6 +70,9 @@ def csv_rows(study: dict) -> list[dict]:
         for name, unit, _ in METRICS:
             flat[f"{name}_{unit}"] = row["metrics"][name]
             flat[f"{name}_change_pct"] = row["change_pct"][name]
+        if study.get("criteria"):
+            flat["passed"] = int(row["passed"])
+            flat["failed"] = "; ".join(row["failed"])
         out.append(flat)
     return out
 

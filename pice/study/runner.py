@@ -17,6 +17,7 @@ import sys
 from ..errors import JobError
 from ..io.errors import OutputError
 from ..parallel.comm import on_root, world
+from .criteria import judge, parse_criterion
 from .metrics import METRICS, compare, run_metrics
 from .report import write_report
 from .variants import Variant, make_variants, show_value
@@ -36,10 +37,11 @@ def _preflight(variants: list[Variant], *, out_dir, comm) -> None:
 
 
 def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None = None, settle: float = 0.0,
-              progress=sys.stderr, comm=None) -> dict | None:
+              criteria=(), progress=sys.stderr, comm=None) -> dict | None:
     """Run every variant (collective) and write the report; return the study dict on rank 0, None on
-    the others. ``settle`` [s]: offsets are taken over t >= settle. Bad input raises JobError
-    before anything is written or run."""
+    the others. ``settle`` [s]: offsets are taken over t >= settle. ``criteria``: texts of
+    study/criteria.py marking each variant pass or fail. Bad input raises JobError before anything
+    is written or run."""
     from ..runner import run_job  # looked up at call time (the simulation is heavy to import)
 
     comm = comm if comm is not None else world()
@@ -47,6 +49,7 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
     out_dir = pathlib.Path(out_dir) if out_dir else pathlib.Path("runs") / f"{job_path.stem}_study"
     if not settle >= 0.0 or math.isinf(settle):
         raise JobError(f"--settle {settle}: must be a time >= 0 s")
+    judged = [parse_criterion(text) for text in criteria]
     variants = make_variants(job_path, specs, out_dir=out_dir)
     if reference is not None and not 0 <= reference < len(variants):
         raise JobError(f"--reference {reference}: must be a variant number 0..{len(variants) - 1}")
@@ -69,11 +72,13 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
     def report():
         for row in rows:
             row["metrics"] = run_metrics(row["run"], settle=settle)
+            row["passed"], row["failed"] = judge(judged, row["metrics"])
         ref = compare(rows, reference)
         study = dict(job=str(job_path), out_dir=str(out_dir), varied=list(variants[0].values),
                      reference=ref, reference_rule="--reference" if reference is not None else "most particle-steps",
                      loads_on="body 0" if variants[0].job.bodies else "the walls (sum)",
-                     settle=settle, units={name: unit for name, unit, _ in METRICS}, variants=rows)
+                     settle=settle, units={name: unit for name, unit, _ in METRICS}, variants=rows,
+                     criteria=[str(c) for c in judged])
         study["files"] = [str(p) for p in write_report(study, out_dir)]
         return study
 

@@ -165,7 +165,8 @@ def test_change_against_the_finest_variant():
     assert change_percent(90.0, 100.0) == -10.0 and change_percent(-110.0, -100.0) == -10.0
     assert change_percent(0.0, 0.0) == 0.0 and math.isnan(change_percent(1.0, 0.0))
     rows = [{"particle_steps": n, "metrics": {"peak_load_x": x, "peak_load_z": 1.0, "mean_offset": float("nan"),
-                                               "max_offset": 2.0, "max_fairlead_tension": 3.0}}
+                                               "max_offset": 2.0, "max_fairlead_tension": 3.0, "max_pitch": 4.0,
+                                               "max_roll": 5.0}}
             for n, x in ((100, 80.0), (400, 100.0), (200, 125.0))]
     assert compare(rows) == 1
     assert [r["change_pct"]["peak_load_x"] for r in rows] == [-20.0, 0.0, 25.0]
@@ -221,3 +222,50 @@ def test_study_of_two_time_steps_writes_table_csv_json_and_png(tmp_path, capsys)
     png = (out / "study.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
     assert int.from_bytes(png[16:20], "big") == 1200 and int.from_bytes(png[20:24], "big") == 700
+
+
+# -- criteria -------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize(("criterion", "why"), [
+    ("max_pitch_deg << 15", "write <metric> <op> <number>"),
+    ("max_pitch < 15", "no metric 'max_pitch'; one of"),
+    ("max_offset_m < soon", "write <metric> <op> <number>"),
+])
+def test_bad_criterion_is_one_line_exit_2_and_nothing_runs(tmp_path, capsys, monkeypatch, criterion, why):
+    import pice.runner
+
+    monkeypatch.setattr(pice.runner, "run_job", lambda *a, **k: (_ for _ in ()).throw(AssertionError("ran")))
+    job = write(tmp_path, WALL_JOB)
+    out = tmp_path / "study"
+    assert main(["study", str(job), "--vary", "run.dt=2e-4", "--criterion", criterion, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and why in err[0] and criterion in err[0], err
+    assert not out.exists()
+
+
+def test_judge_marks_pass_fail_and_missing():
+    from pice.study.criteria import judge, parse_criterion
+
+    metrics = {"max_pitch": 12.0, "max_offset": 5.0, "peak_load_x": float("nan")}
+    ok, failed = judge([parse_criterion("max_pitch_deg < 15"), parse_criterion("max_offset_m <= 4.5")], metrics)
+    assert not ok and failed == ["max_offset_m <= 4.5"]
+    ok, failed = judge([parse_criterion("peak_load_x_N >= 1e4")], metrics)
+    assert not ok and "no peak_load_x_N in this run" in failed[0]
+    assert judge([parse_criterion(" max_pitch_deg<15 ")], metrics) == (True, [])
+
+
+def test_study_with_criteria_marks_each_variant(tmp_path, capsys):
+    job = write(tmp_path, WALL_JOB)
+    out = tmp_path / "study"
+    args = ["study", str(job), "--vary", "run.dt=2e-4,4e-4", "--out", str(out),
+            "--criterion", "peak_load_x_N > 1e4", "--criterion", "max_pitch_deg < 15"]
+    assert main(args) == 0
+    printed = capsys.readouterr().out
+    assert "criteria (peak_load_x_N > 10000, max_pitch_deg < 15)" in printed
+    with open(out / "study.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    # the sheet reaches the slope in both (> 1e4 N), and a wall has no pitch: each fails on the missing metric
+    assert [r["passed"] for r in rows] == ["0", "0"]
+    assert all(r["failed"] == "max_pitch_deg < 15 (no max_pitch_deg in this run)" for r in rows)
+    study = json.loads((out / "study.json").read_text())
+    assert study["criteria"] == ["peak_load_x_N > 10000", "max_pitch_deg < 15"]
