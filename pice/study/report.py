@@ -40,9 +40,13 @@ def study_table(study: dict) -> list[str]:
             text = f"{value / _TABLE_SCALE[unit][0]:.4g}"
             cells.append(f"{text} (ref)" if row["variant"] == ref else
                          f"{text} ({'n/a' if math.isnan(change) else f'{change:+.2f}%'})")
+        if any(r.get("error") for r in study["variants"]):
+            cells.append(f"failed: {row['error']}" if row.get("error") else "ok")
         if study.get("criteria"):
             cells.append("pass" if row["passed"] else "fail: " + "; ".join(row["failed"]))
         body.append(cells)
+    if any(r.get("error") for r in study["variants"]):
+        head.append("run")
     if study.get("criteria"):
         head.append("criteria (" + ", ".join(study["criteria"]) + ")")
     widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
@@ -70,6 +74,7 @@ def csv_rows(study: dict) -> list[dict]:
         for name, unit, _ in METRICS:
             flat[f"{name}_{unit}"] = row["metrics"][name]
             flat[f"{name}_change_pct"] = row["change_pct"][name]
+        flat["error"] = row.get("error") or ""
         if study.get("criteria"):
             flat["passed"] = int(row["passed"])
             flat["failed"] = "; ".join(row["failed"])

@@ -10,11 +10,12 @@ set up and stepped twice beforehand, so numba's compile time falls on none of th
 
 from __future__ import annotations
 
+import json
 import math
 import pathlib
 import sys
 
-from ..errors import JobError
+from ..errors import JobError, PiceError
 from ..io.errors import OutputError
 from ..parallel.comm import on_root, world
 from .criteria import judge, parse_criterion
@@ -25,15 +26,47 @@ from .variants import Variant, make_variants, show_value
 WARM_UP_STEPS = 2  # steps each variant takes before the runs, to compile the kernels (not timed)
 
 
-def _preflight(variants: list[Variant], *, out_dir, comm) -> None:
+def _preflight(variants: list[Variant], *, out_dir, comm) -> dict[int, str]:
     """Set every variant up and advance it WARM_UP_STEPS (collective), writing nothing: the checks
-    that need the built scene (the stability limit of run.dt, overlaps, regions) fail here, before
-    the first run, and numba has loaded or compiled every kernel before the timed runs."""
+    that need the built scene (the stability limit of run.dt, overlaps, regions) run here, before
+    the first run, and numba has loaded or compiled every kernel before the timed runs. Returns
+    {variant: reason} of those whose set-up was refused: they are recorded as failed, not run."""
     from ..simulation import Simulation
 
+    refused = {}
     for v in variants:
-        sim = Simulation(v.job.model_copy(update={"source": v.label}), base_dir=out_dir, comm=comm)
-        sim.advance(min(WARM_UP_STEPS, sim.total_steps))
+        try:
+            sim = Simulation(v.job.model_copy(update={"source": v.label}), base_dir=out_dir, comm=comm)
+            sim.advance(min(WARM_UP_STEPS, sim.total_steps))
+        except PiceError as exc:
+            refused[v.index] = str(exc)
+    return refused
+
+
+def _record(v: Variant) -> pathlib.Path:
+    """Where a variant's outcome is kept, so that a killed study does not run it again."""
+    return v.run.with_suffix(".outcome.json")
+
+
+def _finished(v: Variant) -> dict | None:
+    """The outcome of a variant run to its end (or refused) by an earlier call of the same study (its
+    job text unchanged, its run file closed as "finished" when it ran), else None."""
+    import json
+
+    import h5py
+
+    try:
+        row = json.loads(_record(v).read_text(encoding="utf-8"))
+        if row.get("job_text") != v.text:
+            return None
+        if row.get("error") is None:
+            with h5py.File(v.run, "r") as f:
+                status = f.attrs["status"]
+            if (status.decode() if isinstance(status, bytes) else str(status)) != "finished":
+                return None
+        return row
+    except (OSError, ValueError, KeyError):
+        return None
 
 
 def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None = None, settle: float = 0.0,
@@ -53,26 +86,33 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
     variants = make_variants(job_path, specs, out_dir=out_dir)
     if reference is not None and not 0 <= reference < len(variants):
         raise JobError(f"--reference {reference}: must be a variant number 0..{len(variants) - 1}")
-    _preflight(variants, out_dir=out_dir, comm=comm)
+    done = comm.bcast({v.index: _finished(v) for v in variants} if comm.rank == 0 else None)
+    todo = [v for v in variants if done[v.index] is None]
+    refused = _preflight(todo, out_dir=out_dir, comm=comm)
     _on_rank0(comm, lambda: _write_jobs(out_dir, variants), f"{out_dir}: cannot write the variants")
     if comm.rank != 0:
         progress = None
     rows = []
     for v in variants:
-        if progress is not None:
-            print(f"pice study: variant {v.index} of 0..{len(variants) - 1}: "
-                  + ", ".join(f"{k} = {show_value(x)}" for k, x in v.values.items()) + f" -> {v.run}",
+        row = done[v.index]
+        if row is None:
+            row = _run_variant(v, refused.get(v.index), run_job, out_dir=out_dir, progress=progress, comm=comm,
+                               count=len(variants))
+            _on_rank0(comm, lambda: _record(v).write_text(json.dumps(row), encoding="utf-8"),
+                      f"{out_dir}: cannot record variant {v.index}")
+        elif progress is not None:
+            print(f"pice study: variant {v.index}: done before ({_record(v).name}), not run again",
                   file=progress, flush=True)
-        summary = run_job(v.job, output=str(v.run), overwrite=True, base_dir=out_dir, progress=progress, comm=comm)
-        rows.append(dict(variant=v.index, values=v.values, toml=str(v.toml), run=str(v.run),
-                         wall_time=summary["wall_time"], steps=summary["steps"], elements=summary["elements"],
-                         particle_steps=summary["elements"] * summary["steps"],
-                         particle_steps_per_second=summary["particle_steps_per_second"], ranks=summary["ranks"]))
+        rows.append({k: x for k, x in row.items() if k != "job_text"})
 
     def report():
         for row in rows:
-            row["metrics"] = run_metrics(row["run"], settle=settle)
-            row["passed"], row["failed"] = judge(judged, row["metrics"])
+            if row["error"] is None:
+                row["metrics"] = run_metrics(row["run"], settle=settle)
+                row["passed"], row["failed"] = judge(judged, row["metrics"])
+            else:
+                row["metrics"] = dict.fromkeys((name for name, _, _ in METRICS), math.nan)
+                row["passed"], row["failed"] = False, [f"failed: {row['error']}"]
         ref = compare(rows, reference)
         study = dict(job=str(job_path), out_dir=str(out_dir), varied=list(variants[0].values),
                      reference=ref, reference_rule="--reference" if reference is not None else "most particle-steps",
@@ -83,6 +123,30 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
         return study
 
     return _on_rank0(comm, report, f"{out_dir}: cannot write the study report")
+
+
+def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress, comm, count: int) -> dict:
+    """Run one variant (collective); its row, with ``error`` the reason when its set-up was refused or
+    its run stopped (a refused step, a blow-up, a bad geometry): the study goes on."""
+    row = dict(variant=v.index, values=v.values, toml=str(v.toml), run=str(v.run), job_text=v.text, error=refused,
+               wall_time=0.0, steps=0, elements=0, particle_steps=0, particle_steps_per_second=0.0, ranks=comm.size)
+    if progress is not None:
+        print(f"pice study: variant {v.index} of 0..{count - 1}: "
+              + ", ".join(f"{k} = {show_value(x)}" for k, x in v.values.items()) + f" -> {v.run}"
+              + (f": refused at set-up: {refused}" if refused else ""), file=progress, flush=True)
+    if refused:
+        return row
+    try:
+        summary = run_job(v.job, output=str(v.run), overwrite=True, base_dir=out_dir, progress=progress, comm=comm)
+    except (PiceError, FloatingPointError) as exc:  # every rank raises it (the checks are collective)
+        row["error"] = str(exc).splitlines()[0]
+        if progress is not None:
+            print(f"pice study: variant {v.index} failed: {row['error']}", file=progress, flush=True)
+        return row
+    row.update(wall_time=summary["wall_time"], steps=summary["steps"], elements=summary["elements"],
+               particle_steps=summary["elements"] * summary["steps"],
+               particle_steps_per_second=summary["particle_steps_per_second"], ranks=summary["ranks"])
+    return row
 
 
 def _write_jobs(out_dir: pathlib.Path, variants: list[Variant]) -> None:

@@ -88,7 +88,6 @@ def test_variants_are_the_cartesian_product_in_order(tmp_path):
     ("run.dt=1e-4,soon", "run.dt", "run.dt = 'soon': must be 'auto' or a number"),
     ("ice.push.speed=1.0", "ice.push.speed", "the job has no [ice.push] table"),
     ("walls[1].friction=0.1", "walls[1].friction", "walls has 1 entry"),
-    ("run.dt=1e-4,0.01", "run.dt", "above the stability limit"),  # a set-up check: the scene is built
 ])
 def test_bad_input_is_one_line_exit_2_and_nothing_runs(tmp_path, capsys, monkeypatch, vary, key, why):
     import pice.runner
@@ -269,3 +268,45 @@ def test_study_with_criteria_marks_each_variant(tmp_path, capsys):
     assert all(r["failed"] == "max_pitch_deg < 15 (no max_pitch_deg in this run)" for r in rows)
     study = json.loads((out / "study.json").read_text())
     assert study["criteria"] == ["peak_load_x_N > 10000", "max_pitch_deg < 15"]
+
+
+# -- failures and restarts ------------------------------------------------------------------------
+
+def test_a_refused_variant_is_recorded_and_the_others_run(tmp_path, capsys):
+    """run.dt = 0.01 s is above the stability limit (a set-up check: the scene is built): that variant
+    is recorded as failed with the reason, and the other runs (issue 16: one bad variant no longer
+    stops the study)."""
+    job = write(tmp_path, WALL_JOB)
+    out = tmp_path / "study"
+    assert main(["study", str(job), "--vary", "run.dt=2e-4,0.01", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "failed: " in printed and "above the stability limit" in printed
+    with open(out / "study.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert rows[0]["error"] == "" and float(rows[0]["peak_load_x_N"]) > 1e4
+    assert "above the stability limit" in rows[1]["error"] and rows[1]["peak_load_x_N"] == "nan"
+    assert rows[0]["reference"] == "1"
+
+
+def test_a_restarted_study_runs_only_what_is_not_finished(tmp_path, monkeypatch):
+    """A study whose first variant finished before (its outcome recorded, its run file "finished")
+    runs only the second when called again, as after a kill; a changed variant runs again."""
+    import pice.runner
+
+    job = write(tmp_path, WALL_JOB)
+    out = tmp_path / "study"
+    assert main(["study", str(job), "--vary", "run.dt=2e-4,4e-4", "--out", str(out)]) == 0
+    (out / "tiny_1.outcome.json").unlink()  # as if killed while variant 1 ran
+    ran = []
+    real = pice.runner.run_job
+
+    def counting(job, **kwargs):
+        ran.append(kwargs["output"])
+        return real(job, **kwargs)
+
+    monkeypatch.setattr(pice.runner, "run_job", counting)
+    assert main(["study", str(job), "--vary", "run.dt=2e-4,4e-4", "--out", str(out)]) == 0
+    assert ran == [str(out / "tiny_1.h5")]
+    with open(out / "study.csv", newline="") as f:
+        assert len(list(csv.DictReader(f))) == 2
+
