@@ -143,7 +143,18 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress=sys
     broken = int(comm.sum(sim.c.broken))
     return dict(output=str(output), steps=sim.c.step, time=sim.c.time, wall_time=elapsed,
                 particle_steps_per_second=elements * (sim.c.step - step0) / max(elapsed, 1e-9),
-                broken_bonds=broken, elements=elements, ranks=comm.size, rank=comm.rank)
+                broken_bonds=broken, elements=elements, ranks=comm.size, rank=comm.rank,
+                mooring_node_updates=comm.bcast(_node_updates(sim) if comm.rank == 0 else None))
+
+
+def _node_updates(sim) -> int:
+    """DEM mooring-node updates per ice step (nodes x line sub-steps; 0 without DEM lines), rank 0."""
+    if sim.platform is None:
+        return 0
+    from .platform.output import describe as describe_platform
+
+    d = describe_platform(sim.platform, sim.dt)
+    return int(d["mooring_nodes"] * max(d["mooring_substeps"], 1)) if d["mooring_nodes"] else 0
 
 
 def _restarted(job, path, *, base_dir=None, comm=None) -> Simulation:

@@ -19,7 +19,7 @@ import pathlib
 import h5py
 import numpy as np
 import pytest
-from scenes import JOBS, barge_job, slope_job, tomllib
+from scenes import JOBS, barge_job, job_from_text, slope_job, tomllib
 
 from pice.cli import main
 from pice.errors import JobError
@@ -310,3 +310,15 @@ def test_a_restarted_study_runs_only_what_is_not_finished(tmp_path, monkeypatch)
     with open(out / "study.csv", newline="") as f:
         assert len(list(csv.DictReader(f))) == 2
 
+
+
+def test_cost_counts_the_mooring_nodes(tmp_path):
+    """The cost of a variant counts every element and every DEM mooring-node update (issue 16): the
+    barge's 4 lines of 120 m in 10 m elements have 4 x 13 nodes, updated once a step here."""
+    from pice.runner import run_job
+
+    job = job_from_text(barge_job(duration=0.01, mooring="dem"), base_dir=tmp_path)
+    summary = run_job(job, output=str(tmp_path / "barge.h5"), progress=None)
+    assert summary["mooring_node_updates"] == 4 * 13
+    job_q = job_from_text(barge_job(duration=0.01, mooring="quasi_static"), base_dir=tmp_path)
+    assert run_job(job_q, output=str(tmp_path / "barge_q.h5"), progress=None)["mooring_node_updates"] == 0
