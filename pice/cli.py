@@ -139,7 +139,7 @@ def _cmd_study(args) -> int:
     from .study.report import study_table
 
     study = run_study(args.job, args.vary, out_dir=args.out, reference=args.reference, settle=args.settle,
-                      criteria=args.criterion or ())
+                      criteria=args.criterion or (), group_size=args.group_size)
     if study is not None:  # rank 0
         print("\n".join(study_table(study)))
         print(f"pice: wrote {len(study['variants'])} run(s) and " + ", ".join(pathlib.Path(p).name for p in study["files"])
@@ -312,6 +312,9 @@ def build_parser() -> argparse.ArgumentParser:
                     help="compare with variant K (default: the finest, the most particle-steps)")
     st.add_argument("--settle", type=float, default=0.0, metavar="SECONDS",
                     help="offsets over t >= SECONDS only (default 0)")
+    st.add_argument("--group-size", type=int, metavar="G",
+                    help="split the ranks into groups of G that run different variants side by side, taking "
+                         "them from a queue on rank 0, largest first (default: every variant on all ranks)")
     st.add_argument("--criterion", action="append", metavar="\"METRIC OP NUMBER\"",
                     help="mark each variant pass or fail, e.g. \"max_pitch_deg < 15\" (metrics named as the "
                          "CSV's columns, with their unit); several: all must hold")

@@ -18,6 +18,7 @@ import sys
 from ..errors import JobError, PiceError
 from ..io.errors import OutputError
 from ..parallel.comm import on_root, world
+from ..parallel.ensemble import WorkQueue, split
 from .criteria import judge, parse_criterion
 from .metrics import METRICS, compare, run_metrics
 from .report import write_report
@@ -26,21 +27,23 @@ from .variants import Variant, make_variants, show_value
 WARM_UP_STEPS = 2  # steps each variant takes before the runs, to compile the kernels (not timed)
 
 
-def _preflight(variants: list[Variant], *, out_dir, comm) -> dict[int, str]:
+def _preflight(variants: list[Variant], *, out_dir, comm) -> tuple[dict[int, str], dict[int, int]]:
     """Set every variant up and advance it WARM_UP_STEPS (collective), writing nothing: the checks
     that need the built scene (the stability limit of run.dt, overlaps, regions) run here, before
     the first run, and numba has loaded or compiled every kernel before the timed runs. Returns
-    {variant: reason} of those whose set-up was refused: they are recorded as failed, not run."""
+    ({variant: reason} of those whose set-up was refused: they are recorded as failed, not run;
+    {variant: its cost in particle-steps, elements x steps}: the queue's order, largest first)."""
     from ..simulation import Simulation
 
-    refused = {}
+    refused, cost = {}, {}
     for v in variants:
         try:
             sim = Simulation(v.job.model_copy(update={"source": v.label}), base_dir=out_dir, comm=comm)
+            cost[v.index] = int(comm.sum(sim.p.nlocal)) * sim.total_steps
             sim.advance(min(WARM_UP_STEPS, sim.total_steps))
         except PiceError as exc:
             refused[v.index] = str(exc)
-    return refused
+    return refused, cost
 
 
 def _record(v: Variant) -> pathlib.Path:
@@ -70,11 +73,13 @@ def _finished(v: Variant) -> dict | None:
 
 
 def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None = None, settle: float = 0.0,
-              criteria=(), progress=sys.stderr, comm=None) -> dict | None:
+              criteria=(), group_size: int | None = None, progress=sys.stderr, comm=None) -> dict | None:
     """Run every variant (collective) and write the report; return the study dict on rank 0, None on
     the others. ``settle`` [s]: offsets are taken over t >= settle. ``criteria``: texts of
-    study/criteria.py marking each variant pass or fail. Bad input raises JobError before anything
-    is written or run."""
+    study/criteria.py marking each variant pass or fail. ``group_size``: the ranks split into groups
+    of that many (parallel/ensemble.py), each running the variants it takes from rank 0's queue,
+    largest first (None: all ranks run every variant in turn). Bad input raises JobError before
+    anything is written or run."""
     from ..runner import run_job  # looked up at call time (the simulation is heavy to import)
 
     comm = comm if comm is not None else world()
@@ -83,27 +88,34 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
     if not settle >= 0.0 or math.isinf(settle):
         raise JobError(f"--settle {settle}: must be a time >= 0 s")
     judged = [parse_criterion(text) for text in criteria]
+    try:
+        group, colour, ngroups = split(comm, group_size) if group_size else (comm, 0, 1)
+    except ValueError as exc:
+        raise JobError(str(exc)) from None
     variants = make_variants(job_path, specs, out_dir=out_dir)
     if reference is not None and not 0 <= reference < len(variants):
         raise JobError(f"--reference {reference}: must be a variant number 0..{len(variants) - 1}")
     done = comm.bcast({v.index: _finished(v) for v in variants} if comm.rank == 0 else None)
     todo = [v for v in variants if done[v.index] is None]
-    refused = _preflight(todo, out_dir=out_dir, comm=comm)
+    refused, cost = _preflight(todo, out_dir=out_dir, comm=comm)
     _on_rank0(comm, lambda: _write_jobs(out_dir, variants), f"{out_dir}: cannot write the variants")
-    if comm.rank != 0:
-        progress = None
+    if comm.rank == 0 and progress is not None:
+        for v in variants:
+            if done[v.index] is not None:
+                print(f"pice study: variant {v.index}: done before ({_record(v).name}), not run again",
+                      file=progress, flush=True)
+    if ngroups == 1:
+        mine = _run_in_turn(todo, refused, run_job, out_dir=out_dir, comm=comm,
+                            progress=progress if comm.rank == 0 else None, count=len(variants))
+    else:
+        order = sorted(todo, key=lambda v: (-cost.get(v.index, 0), v.index))
+        mine = _run_from_queue(order, refused, run_job, out_dir=out_dir, comm=comm, group=group, colour=colour,
+                               progress=progress if group.rank == 0 else None, count=len(variants))
+    gathered = comm.gather(mine)
     rows = []
-    for v in variants:
-        row = done[v.index]
-        if row is None:
-            row = _run_variant(v, refused.get(v.index), run_job, out_dir=out_dir, progress=progress, comm=comm,
-                               count=len(variants))
-            _on_rank0(comm, lambda: _record(v).write_text(json.dumps(row), encoding="utf-8"),
-                      f"{out_dir}: cannot record variant {v.index}")
-        elif progress is not None:
-            print(f"pice study: variant {v.index}: done before ({_record(v).name}), not run again",
-                  file=progress, flush=True)
-        rows.append({k: x for k, x in row.items() if k != "job_text"})
+    if comm.rank == 0:
+        ran = {row["variant"]: row for part in gathered for row in part}
+        rows = [{k: x for k, x in (done[v.index] or ran[v.index]).items() if k != "job_text"} for v in variants]
 
     def report():
         for row in rows:
@@ -125,13 +137,49 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
     return _on_rank0(comm, report, f"{out_dir}: cannot write the study report")
 
 
-def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress, comm, count: int) -> dict:
+def _run_in_turn(todo, refused, run_job, *, out_dir, comm, progress, count) -> list[dict]:
+    """Every variant on all the ranks, one after the other; rank 0 records each outcome."""
+    rows = []
+    for v in todo:
+        row = _run_variant(v, refused.get(v.index), run_job, out_dir=out_dir, progress=progress, comm=comm,
+                           count=count)
+        _on_rank0(comm, lambda: _record(v).write_text(json.dumps(row), encoding="utf-8"),
+                  f"{out_dir}: cannot record variant {v.index}")
+        rows.append(row)
+    return rows if comm.rank == 0 else []
+
+
+def _run_from_queue(order, refused, run_job, *, out_dir, comm, group, colour, progress, count) -> list[dict]:
+    """Each group takes the next variant of ``order`` from rank 0's queue until none is left; its
+    leader records the outcome and keeps the row."""
+    queue = WorkQueue(comm)
+    rows = []
+    while True:
+        k = group.bcast(queue.take() if group.rank == 0 else None)
+        if k >= len(order):
+            break
+        v = order[k]
+        row = _run_variant(v, refused.get(v.index), run_job, out_dir=out_dir, progress=progress, comm=group,
+                           count=count, label=f"group {colour}: ")
+        row["group"] = colour
+        if group.rank == 0:
+            try:
+                _record(v).write_text(json.dumps(row), encoding="utf-8")
+            except OSError as exc:  # the study goes on; only its restart would run this variant again
+                print(f"pice study: cannot record variant {v.index} ({exc.strerror or exc})", file=sys.stderr)
+            rows.append(row)
+    queue.free()
+    return rows
+
+
+def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress, comm, count: int,
+                 label: str = "") -> dict:
     """Run one variant (collective); its row, with ``error`` the reason when its set-up was refused or
     its run stopped (a refused step, a blow-up, a bad geometry): the study goes on."""
     row = dict(variant=v.index, values=v.values, toml=str(v.toml), run=str(v.run), job_text=v.text, error=refused,
                wall_time=0.0, steps=0, elements=0, particle_steps=0, particle_steps_per_second=0.0, ranks=comm.size)
     if progress is not None:
-        print(f"pice study: variant {v.index} of 0..{count - 1}: "
+        print(f"pice study: {label}variant {v.index} of 0..{count - 1}: "
               + ", ".join(f"{k} = {show_value(x)}" for k, x in v.values.items()) + f" -> {v.run}"
               + (f": refused at set-up: {refused}" if refused else ""), file=progress, flush=True)
     if refused:

@@ -1,0 +1,60 @@
+"""`pice study --group-size 1` on two ranks (under `mpiexec -n 2 python -m pytest -m mpi`): the ranks
+split into two groups of one, which take the variants from rank 0's queue (parallel/ensemble.py).
+
+Reference (issue 16): a variant run in a group gives, bit for bit, the metrics of that variant run
+alone on one rank; every variant runs once; both groups work; the report lists the variants in
+their order. A --group-size that does not divide the ranks is refused (exit status 2, nothing run).
+"""
+
+from __future__ import annotations
+
+import pathlib
+
+import pytest
+from launch import need_two_ranks
+from scenes import slope_job
+
+from pice.errors import JobError
+from pice.job import load_job
+from pice.parallel.comm import SerialComm
+from pice.runner import run_job
+from pice.study import run_study
+from pice.study.metrics import run_metrics
+
+pytestmark = pytest.mark.mpi
+
+
+def _shared_folder(comm, tmp_path) -> pathlib.Path:
+    base = pathlib.Path(comm.bcast(str(tmp_path)))  # rank 0's folder, seen by both
+    if comm.rank == 0:
+        (base / "tiny.toml").write_text(slope_job(duration=0.05, snapshots=1))
+    comm.barrier()
+    return base
+
+
+def test_groups_of_one_give_each_variant_as_run_alone(tmp_path):
+    comm = need_two_ranks()
+    base = _shared_folder(comm, tmp_path)
+    out = base / "study"
+    study = run_study(base / "tiny.toml", ["run.dt=2e-4,2.5e-4,3e-4,4e-4"], out_dir=out, group_size=1, progress=None,
+                      comm=comm)
+    if comm.rank != 0:
+        assert study is None
+        return
+    rows = study["variants"]
+    assert [r["variant"] for r in rows] == [0, 1, 2, 3] and all(r["error"] is None for r in rows)
+    assert {r["group"] for r in rows} == {0, 1} and all(r["ranks"] == 1 for r in rows)
+    for r in rows:
+        alone = base / f"alone_{r['variant']}.h5"
+        run_job(load_job(r["toml"]), output=str(alone), progress=None, comm=SerialComm(), base_dir=out)
+        m = run_metrics(alone)
+        for name, value in r["metrics"].items():
+            assert m[name] == value or (m[name] != m[name] and value != value), (r["variant"], name)
+
+
+def test_group_size_must_divide_the_ranks(tmp_path):
+    comm = need_two_ranks()
+    base = _shared_folder(comm, tmp_path)
+    with pytest.raises(JobError, match="do not split into groups of 3"):
+        run_study(base / "tiny.toml", ["run.dt=2e-4"], out_dir=base / "never", group_size=3, progress=None, comm=comm)
+    assert not (base / "never").exists()
