@@ -322,3 +322,23 @@ def test_cost_counts_the_mooring_nodes(tmp_path):
     assert summary["mooring_node_updates"] == 4 * 13
     job_q = job_from_text(barge_job(duration=0.01, mooring="quasi_static"), base_dir=tmp_path)
     assert run_job(job_q, output=str(tmp_path / "barge_q.h5"), progress=None)["mooring_node_updates"] == 0
+
+
+def test_a_blowing_up_variant_is_recorded_and_the_others_run(tmp_path, capsys):
+    """With run.allow_unstable_dt = true a step of 5x the limit is not refused: that variant blows up
+    (the health check stops it with its diagnostic), is recorded as failed with the reason, and the
+    other variant runs to its end (issue 16)."""
+    text = WALL_JOB.replace("[run]\n", "[run]\nallow_unstable_dt = true\n", 1)
+    job = write(tmp_path, text)
+    from pice.simulation import Simulation
+
+    stable = Simulation(load_job(job)).limit.stable  # the scene's stability limit [s]
+    out = tmp_path / "study"
+    assert main(["study", str(job), "--vary", f"run.dt=2e-4,{5 * stable:.6g}", "--out", str(out)]) == 0
+    with open(out / "study.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert rows[0]["error"] == "" and float(rows[0]["peak_load_x_N"]) > 1e4
+    assert "unstable" in rows[1]["error"] and "stability limit" in rows[1]["error"]
+    with h5py.File(out / "tiny_1.h5") as f:  # the stopped run's file is kept, closed with its reason
+        status = f.attrs["status"]
+        assert (status.decode() if isinstance(status, bytes) else status).startswith("stopped")
