@@ -342,3 +342,27 @@ def test_a_blowing_up_variant_is_recorded_and_the_others_run(tmp_path, capsys):
     with h5py.File(out / "tiny_1.h5") as f:  # the stopped run's file is kept, closed with its reason
         status = f.attrs["status"]
         assert (status.decode() if isinstance(status, bytes) else status).startswith("stopped")
+
+
+def test_sigkill_then_the_same_command_runs_only_the_unfinished(tmp_path):
+    """`pice study` killed with SIGKILL once its first variant's outcome is recorded, then run again:
+    the second run says the first variant was done before and runs the rest (issue 16)."""
+    import time
+
+    from launch import BIN, kill9, run_cmd, start
+
+    job = write(tmp_path, slope_job(duration=0.3, snapshots=1))
+    out = tmp_path / "study"
+    cmd = [str(BIN / "pice"), "study", str(job), "--vary", "run.dt=2e-4,3e-4,4e-4", "--out", str(out)]
+    proc = start(cmd)
+    end = time.monotonic() + 300
+    while not (out / "tiny_0.outcome.json").exists() and proc.poll() is None and time.monotonic() < end:
+        time.sleep(0.05)
+    assert proc.poll() is None, "the study ended before it could be killed"
+    kill9(proc)
+    assert not (out / "tiny_2.outcome.json").exists()
+    res = run_cmd(cmd)
+    assert "variant 0: done before" in res.stderr
+    assert "variant 0 of 0..2" not in res.stderr and "variant 2 of 0..2" in res.stderr
+    with open(out / "study.csv", newline="") as f:
+        assert [r["error"] for r in csv.DictReader(f)] == ["", "", ""]
