@@ -78,9 +78,23 @@ def k_grid(cell: np.ndarray, n: int = GRID) -> np.ndarray:
                             np.zeros(keep.sum())])
 
 
-def _link_matrix(n, ca, cb, springs):
-    from .timestep import link_stiffness_matrix
+def link_stiffness_matrix(n, ca, cb, kn, ks, kt, kb) -> np.ndarray:
+    """12 x 12 stiffness of one link (parallel bond or contact) in (u_a, theta_a, u_b, theta_b).
 
+    n: unit vector a -> b; ca, cb: distances of the contact point from the centres [m].
+    The contact point moves by delta = u_b - u_a + cb [n]x theta_b + ca [n]x theta_a; the relative
+    rotation is theta_b - theta_a; normal/shear and twist/bend springs act on their parts.
+    """
+    nx = np.array([[0.0, -n[2], n[1]], [n[2], 0.0, -n[0]], [-n[1], n[0], 0.0]])
+    nn = np.outer(n, n)
+    tang = np.eye(3) - nn
+    eye = np.eye(3)
+    b_delta = np.hstack([-eye, ca * nx, eye, cb * nx])
+    b_theta = np.hstack([np.zeros((3, 3)), -eye, np.zeros((3, 3)), eye])
+    return (b_delta.T @ (kn * nn + ks * tang) @ b_delta) + (b_theta.T @ (kt * nn + kb * tang) @ b_theta)
+
+
+def _link_matrix(n, ca, cb, springs):
     return link_stiffness_matrix(n, ca, cb, *springs)
 
 

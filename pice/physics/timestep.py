@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
+from .lattice_modes import exact_limit
 
 
 @dataclass(frozen=True)
@@ -33,22 +33,6 @@ class StepLimit:
     chosen: float
     safety: float
     governed_by: str
-
-
-def link_stiffness_matrix(n, ca, cb, kn, ks, kt, kb) -> np.ndarray:
-    """12 x 12 stiffness of one link (parallel bond or contact) in (u_a, theta_a, u_b, theta_b).
-
-    n: unit vector a -> b; ca, cb: distances of the contact point from the centres [m].
-    The contact point moves by delta = u_b - u_a + cb [n]x theta_b + ca [n]x theta_a; the relative
-    rotation is theta_b - theta_a; normal/shear and twist/bend springs act on their parts.
-    """
-    nx = np.array([[0.0, -n[2], n[1]], [n[2], 0.0, -n[0]], [-n[1], n[0], 0.0]])
-    nn = np.outer(n, n)
-    tang = np.eye(3) - nn
-    eye = np.eye(3)
-    b_delta = np.hstack([-eye, ca * nx, eye, cb * nx])
-    b_theta = np.hstack([np.zeros((3, 3)), -eye, np.zeros((3, 3)), eye])
-    return (b_delta.T @ (kn * nn + ks * tang) @ b_delta) + (b_theta.T @ (kt * nn + kb * tang) @ b_theta)
 
 
 def stable_step(*, mass: float, inertia: float, d: float, n_layers: int, bond, contact,
@@ -62,8 +46,6 @@ def stable_step(*, mass: float, inertia: float, d: float, n_layers: int, bond, c
     [N s/m]) of the stiffest link of an element to a structure (walls, hulls, far-field springs),
     put on every element. Returns (limit, what governs it).
     """
-    from .lattice_modes import exact_limit
-
     kn = max(bond[0], contact[0])
     ks = max(bond[1], contact[1])
     z, m_red, i_red = damping_ratio, 0.5 * mass, 0.5 * inertia

@@ -20,8 +20,7 @@ import math
 import numpy as np
 import pytest
 
-from pice.physics.lattice_modes import cell_links, exact_limit, unit_cell
-from pice.physics.timestep import link_stiffness_matrix
+from pice.physics.lattice_modes import cell_links, exact_limit, link_stiffness_matrix, unit_cell
 
 M, INERTIA, D = 796.7, 0.4 * 796.7 * 0.25, 1.0            # the reference ice's 1 m cell element
 SPRINGS = (8.248e8, 4.124e8, 5.287e6, 6.873e7)               # bond k_n, contact k_t, bond twist, bend
