@@ -81,6 +81,24 @@ def build_cell_list(x, n, cell_size):
 
 
 @njit(**JIT)
+def cell_neighbourhood(point, origin, dims, start, order, size, out):
+    """Write into ``out`` the indices of every point binned (``build_cell_list``) in the 3 x 3 x 3 cells
+    around ``point`` (3,) [m], cell by cell; return how many. ``out`` holds at least all the points."""
+    cx = _cell_index((point[0] - origin[0]) / size, dims[0])
+    cy = _cell_index((point[1] - origin[1]) / size, dims[1])
+    cz = _cell_index((point[2] - origin[2]) / size, dims[2])
+    m = 0
+    for z in range(max(cz - 1, 0), min(cz + 2, dims[2])):
+        for y in range(max(cy - 1, 0), min(cy + 2, dims[1])):
+            for xx in range(max(cx - 1, 0), min(cx + 2, dims[0])):
+                c = (z * dims[1] + y) * dims[0] + xx
+                for p in range(start[c], start[c + 1]):
+                    out[m] = order[p]
+                    m += 1
+    return m
+
+
+@njit(**JIT)
 def _find_slot(cgid, stamp, i, partner, step):
     """Slot of particle i holding a live contact with ``partner``, or a free slot (history reset), or -1."""
     free = -1

@@ -22,7 +22,7 @@ from numba import njit
 
 from . import JIT
 from .contact_law import plastic_normal_force, tangential_force
-from .contacts import _cell_index, _find_slot, build_cell_list
+from .contacts import _find_slot, build_cell_list, cell_neighbourhood
 from .polyhedra import contact_geometry, face_planes, separated_by_planes
 
 
@@ -42,21 +42,14 @@ def floe_contacts(n, gid, x, v, omega, mass, bound, pts, counts, kn, cn, kt, mu,
     planes = face_planes(pts, counts)
     size = 2.0 * bound[:n].max() * 1.0001
     origin, dims, start, order, size = build_cell_list(x, n, size)
+    near = np.empty(n, dtype=np.int64)
     for i in range(n):
-        cx = _cell_index((x[i, 0] - origin[0]) / size, dims[0])
-        cy = _cell_index((x[i, 1] - origin[1]) / size, dims[1])
-        cz = _cell_index((x[i, 2] - origin[2]) / size, dims[2])
-        for zz in range(max(cz - 1, 0), min(cz + 2, dims[2])):
-            for yy in range(max(cy - 1, 0), min(cy + 2, dims[1])):
-                for xx in range(max(cx - 1, 0), min(cx + 2, dims[0])):
-                    cell = (zz * dims[1] + yy) * dims[0] + xx
-                    for p in range(start[cell], start[cell + 1]):
-                        j = order[p]
-                        if j <= i:
-                            continue
-                        ncontact, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes,
-                                                          kn, cn, kt, mu, pressure, dt, step, cgid, stamp, hist,
-                                                          force, torque, ncontact, nplastic, worst)
+        for q in range(cell_neighbourhood(x[i], origin, dims, start, order, size, near)):
+            j = near[q]
+            if j > i:
+                ncontact, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn,
+                                                  kt, mu, pressure, dt, step, cgid, stamp, hist, force, torque,
+                                                  ncontact, nplastic, worst)
     return ncontact, nplastic, worst
 
 

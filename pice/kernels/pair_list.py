@@ -17,32 +17,26 @@ import numpy as np
 from numba import njit
 
 from . import JIT
-from .contacts import _bonded, _cell_index, build_cell_list
+from .contacts import _bonded, build_cell_list, cell_neighbourhood
 
 
 @njit(**JIT)
-def _candidates(i, nlocal, gid, x, radius, bond_j, skin, origin, dims, start, order, size, out, m):
-    """Write i's candidates into out[m:], unsorted; return the new end."""
-    cx = _cell_index((x[i, 0] - origin[0]) / size, dims[0])
-    cy = _cell_index((x[i, 1] - origin[1]) / size, dims[1])
-    cz = _cell_index((x[i, 2] - origin[2]) / size, dims[2])
-    for z in range(max(cz - 1, 0), min(cz + 2, dims[2])):
-        for y in range(max(cy - 1, 0), min(cy + 2, dims[1])):
-            for xx in range(max(cx - 1, 0), min(cx + 2, dims[0])):
-                c = (z * dims[1] + y) * dims[0] + xx
-                for p in range(start[c], start[c + 1]):
-                    j = order[p]
-                    if j == i or (j < nlocal and gid[j] < gid[i]):
-                        continue  # listed from j's side
-                    d0 = x[j, 0] - x[i, 0]
-                    d1 = x[j, 1] - x[i, 1]
-                    d2 = x[j, 2] - x[i, 2]
-                    reach = radius[i] + radius[j] + skin
-                    if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach or _bonded(bond_j, i, j):
-                        continue
-                    if out is not None:
-                        out[m] = j
-                    m += 1
+def _candidates(i, nlocal, gid, x, radius, bond_j, skin, near, nnear, out, m):
+    """Write i's candidates among near[:nnear] (the points of its cell neighbourhood) into out[m:],
+    unsorted (only counted when out is None); return the new end."""
+    for q in range(nnear):
+        j = near[q]
+        if j == i or (j < nlocal and gid[j] < gid[i]):
+            continue  # listed from j's side
+        d0 = x[j, 0] - x[i, 0]
+        d1 = x[j, 1] - x[i, 1]
+        d2 = x[j, 2] - x[i, 2]
+        reach = radius[i] + radius[j] + skin
+        if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach or _bonded(bond_j, i, j):
+            continue
+        if out is not None:
+            out[m] = j
+        m += 1
     return m
 
 
@@ -59,12 +53,14 @@ def build_pair_list(nlocal, ntotal, gid, x, radius, bond_j, skin):
             rmax = radius[i]
     origin, dims, cstart, order, size = build_cell_list(x, ntotal, 2.0 * rmax * 1.0001 + skin)
     start = np.zeros(nlocal + 1, dtype=np.int64)
+    near = np.empty(ntotal, dtype=np.int64)
     for i in range(nlocal):  # count, then fill
-        start[i + 1] = start[i] + _candidates(i, nlocal, gid, x, radius, bond_j, skin, origin, dims, cstart,
-                                              order, size, None, 0)
+        nnear = cell_neighbourhood(x[i], origin, dims, cstart, order, size, near)
+        start[i + 1] = start[i] + _candidates(i, nlocal, gid, x, radius, bond_j, skin, near, nnear, None, 0)
     partners = np.empty(start[nlocal], dtype=np.int64)
     for i in range(nlocal):
-        _candidates(i, nlocal, gid, x, radius, bond_j, skin, origin, dims, cstart, order, size, partners, start[i])
+        nnear = cell_neighbourhood(x[i], origin, dims, cstart, order, size, near)
+        _candidates(i, nlocal, gid, x, radius, bond_j, skin, near, nnear, partners, start[i])
         for a in range(start[i] + 1, start[i + 1]):  # insertion sort by gid: a few entries
             j = partners[a]
             b = a - 1
