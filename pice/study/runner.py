@@ -89,7 +89,7 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
         raise JobError(f"--settle {settle}: must be a time >= 0 s")
     judged = [parse_criterion(text) for text in criteria]
     try:
-        group, colour, ngroups = split(comm, group_size) if group_size else (comm, 0, 1)
+        group, colour, ngroups = split(comm, group_size) if group_size is not None else (comm, 0, 1)
     except ValueError as exc:
         raise JobError(str(exc)) from None
     variants = make_variants(job_path, specs, out_dir=out_dir)

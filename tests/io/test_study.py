@@ -2,8 +2,10 @@
 
 * key paths and values: ``moorings[0].element_length`` is ("moorings", 0, "element_length"); values
   read as TOML scalars, a bare word as the string it spells;
-* bad input (an unknown key, a bad value, a dt above the stability limit) is one line naming the key,
-  exit status 2, and nothing is run or written;
+* bad input (an unknown key, a bad value, a malformed criterion, a group size that does not divide
+  the ranks) is one line naming it, exit status 2, and nothing is run or written; a variant refused
+  at set-up (a dt above the stability limit) or stopped in its run is recorded as failed and the
+  others run; a killed study runs only its unfinished variants again;
 * the metrics of a hand-made run file whose series are known (values worked out in the comments);
 * the TOML writer gives back what it was given (tomllib round trip);
 * one end-to-end study of two time steps on the 22-element slope job of tests/io/test_run_file.py.
@@ -366,3 +368,14 @@ def test_sigkill_then_the_same_command_runs_only_the_unfinished(tmp_path):
     assert "variant 0 of 0..2" not in res.stderr and "variant 2 of 0..2" in res.stderr
     with open(out / "study.csv", newline="") as f:
         assert [r["error"] for r in csv.DictReader(f)] == ["", "", ""]
+
+
+@pytest.mark.parametrize("size", ["0", "3"])
+def test_group_size_that_does_not_divide_the_ranks_is_refused(tmp_path, capsys, size):
+    job = write(tmp_path, WALL_JOB)
+    out = tmp_path / "study"
+    assert main(["study", str(job), "--vary", "run.dt=2e-4", "--group-size", size, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"--group-size {size}" in err[0], err
+    assert not out.exists()
+
