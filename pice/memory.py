@@ -110,6 +110,9 @@ def refuse_oversized(job, comm, base_dir=None) -> None:
     memory at set-up than it has available, naming the job's size, what it needs and the fix."""
     from .parallel.comm import on_root
 
+    if job.ice is None:  # no sheet: floes and bodies are small
+        return
+
     def check():
         available = available_bytes()
         if available is None:

@@ -94,6 +94,9 @@ def case(id, toml, *expect, files=None, setup=False, lines=None):
 
 PLANE = '[[walls]]\ntype = "plane"\npoint = [0.0, 0.0, -5.0]\n'
 WATER = "[water]\ndepth = 50.0\n"
+NO_ICE = BASE[:BASE.index("[ice]")] + BASE[BASE.index("[bond]"):]
+FLOES = "[floes]\narea = [0.0, 0.0, 100.0, 50.0]\nconcentration = 0.5\n"
+WAVES = '[waves]\nspectrum = "regular"\nheight = 1.0\nperiod = 8.0\n'
 BODY = """[[bodies]]
 name = "barge"
 hull = {type = "box", size = [10.0, 8.0, 4.0]}
@@ -118,7 +121,7 @@ NUMBER_S = r"\d+(\.\d+)?(e-?\d+)? s"  # a time in seconds as printed
 CASES = [
     # --- unknown keys (pydantic extra="forbid"): the message lists the allowed keys
     case("unknown_top_level_key", add("", 'colour = "blue"'),
-         "colour = 'blue': unknown key; expected one of: run, gravity, water, ice, bond, contact, walls"),
+         "colour = 'blue': unknown key; expected one of: run, gravity, water, ice, floes, waves, bond, contact, walls"),
     case("unknown_key_in_section", add("ice", "thicknes = 2.0"),
          "ice.thicknes = 2.0: unknown key; expected one of: density, thickness, element_diameter, length"),
     case("unknown_key_in_wall", BASE + PLANE + "normal = [0.0, 0.0, 1.0]\ncolor = 3\n",
@@ -139,7 +142,7 @@ CASES = [
     case("array_of_tables_for_table", BASE.replace("[ice]", "[[ice]]"),
          "ice = [{...}]: must be a table: write [ice], not [[ice]]"),
     case("missing_ice_section", BASE[:BASE.index("[ice]")] + BASE[BASE.index("[bond]"):],
-         "ice = (absent): missing: the [ice] table is required"),
+         "ice = (absent): missing: a scene needs ice: give [ice]", "or [floes] (broken ice)"),
     # --- non-positive physical quantities (bounds in pice/job/schema.py, unit printed)
     case("thickness_negative", sub("thickness = 1.0", "thickness = -1.0"),
          "ice.thickness = -1.0: must be > 0 m"),
@@ -285,6 +288,14 @@ CASES = [
     case("invalid_toml", sub("width = 3.0", "width = 3.0.0"),
          "not valid TOML: ", re.compile(r"line \d+")),
     case("job_file_not_found", None, "file not found: give the path of a TOML job file"),
+    # --- scenes without level ice (issue 14): floes, waves
+    case("floes_without_water", NO_ICE + FLOES, "water = (absent): missing: [floes] and [waves] need [water]"),
+    case("walls_without_ice", NO_ICE + WATER + FLOES + PLANE + "normal = [0.0, 0.0, 1.0]\n", "walls = (absent): [[walls]] hold level-ice elements",
+         "floes.sides"),
+    case("floe_area_inverted", NO_ICE + WATER + FLOES.replace("[0.0, 0.0, 100.0, 50.0]", "[100.0, 0.0, 0.0, 50.0]"),
+         "floes.area = [100.0, 0.0, 0.0, 50.0]", "x1 > x0"),
+    case("waves_regular_with_period_kind", BASE + WATER + WAVES + 'period_kind = "mean"\n',
+         "a regular wave has one period"),
     # --- genuinely several problems: one line each
     case("two_bad_values", sub("density = 920.0", "density = -3.0", sub("thickness = 1.0", "thickness = -1.0")),
          lines=[["ice.density = -3.0: must be > 0 kg/m^3"], ["ice.thickness = -1.0: must be > 0 m"]]),

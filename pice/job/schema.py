@@ -12,6 +12,7 @@ from typing import Annotated, Literal, Optional, Union
 
 from pydantic import Field, StrictBool, model_validator
 
+from .floes import FloesSpec, WavesSpec
 from .messages import Located
 from .platform import BodySpec, MooringSpec, check_platform
 from .types import Bound, Real, Section, Vec2, Vec3, count, quantity, vector
@@ -207,7 +208,9 @@ class Job(Section):
     run: RunSpec = RunSpec()
     gravity: quantity("m/s^2", gt=None, ge=0.0) = 9.81
     water: Optional[WaterSpec] = None
-    ice: IceSpec
+    ice: Optional[IceSpec] = None      # a bonded level-ice sheet
+    floes: Optional[FloesSpec] = None  # a field of rigid floes
+    waves: Optional[WavesSpec] = None
     bond: BondSpec = BondSpec()
     contact: ContactSpec = ContactSpec()
     walls: tuple[WallSpec, ...] = ()
@@ -223,12 +226,43 @@ class Job(Section):
     @model_validator(mode="after")
     def _consistent(self):
         """Rules between keys; every broken rule is reported (one line each)."""
-        ice, bond, run = self.ice, self.bond, self.run
+        ice, run = self.ice, self.run
         problems: list[Located] = []
 
         def bad(loc, value, msg):
             problems.append(Located(loc, value, msg))
 
+        if ice is not None:
+            self._ice_rules(bad)
+        elif self.floes is None and not self.bodies:
+            bad(("ice",), None, "missing: a scene needs ice: give [ice] (a level-ice sheet) or [floes] (broken ice), "
+                "or at least one [[bodies]] entry")
+        if ice is None and self.walls:
+            bad(("walls",), None, "[[walls]] hold level-ice elements and the job has no [ice]; drop [[walls]] (a floe "
+                "field is confined by floes.sides = \"confined\")")
+        if (self.floes is not None or self.waves is not None) and self.water is None:
+            bad(("water",), None, "missing: [floes] and [waves] need [water] (the floes float in it, the waves "
+                "travel on it)")
+        if run.dt != "auto" and run.dt >= run.duration:
+            bad(("run", "dt"), run.dt, f"must be < run.duration = {run.duration} s")
+        if self.crushing is not None:
+            if self.crushing.structure == "iso19906":
+                for k, wall in enumerate(self.walls):
+                    if wall.crushing_width is None:
+                        bad(("walls", k, "crushing_width"), None,
+                            "missing: crushing.structure = \"iso19906\" needs each wall's width w [m] for the "
+                            "pressure-area relation (or give crushing.structure a pressure [Pa])")
+            if self.crushing.ice is None and ice is not None and ice.compressive_strength is None:
+                bad(("crushing", "ice"), None, "missing: the ice-ice crushing pressure [Pa]; give crushing.ice "
+                    "or ice.compressive_strength")
+        check_platform(self, bad)
+        if problems:
+            raise Located.group(problems)
+        return self
+
+    def _ice_rules(self, bad) -> None:
+        """Rules between [ice], [bond], [water] and [crushing] keys of a level-ice sheet."""
+        ice, bond = self.ice, self.bond
         # the HCP sheet needs at least one element across each dimension (scenes/level_ice.py)
         if ice.thickness < ice.element_diameter * (1 - 1e-9) and ice.element_volume != "cell":
             bad(("ice", "thickness"), ice.thickness,
@@ -269,19 +303,3 @@ class Job(Section):
         if self.water is not None and self.gravity > 0 and ice.density >= self.water.density:
             bad(("ice", "density"), ice.density,
                 f"must be < water.density = {self.water.density} kg/m^3, else the ice sinks")
-        if run.dt != "auto" and run.dt >= run.duration:
-            bad(("run", "dt"), run.dt, f"must be < run.duration = {run.duration} s")
-        if self.crushing is not None:
-            if self.crushing.structure == "iso19906":
-                for k, wall in enumerate(self.walls):
-                    if wall.crushing_width is None:
-                        bad(("walls", k, "crushing_width"), None,
-                            "missing: crushing.structure = \"iso19906\" needs each wall's width w [m] for the "
-                            "pressure-area relation (or give crushing.structure a pressure [Pa])")
-            if self.crushing.ice is None and ice.compressive_strength is None:
-                bad(("crushing", "ice"), None, "missing: the ice-ice crushing pressure [Pa]; give crushing.ice "
-                    "or ice.compressive_strength")
-        check_platform(self, bad)
-        if problems:
-            raise Located.group(problems)
-        return self

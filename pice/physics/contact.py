@@ -39,7 +39,8 @@ def tangential_ratio(job) -> float:
     feels the modulus of the intact sheet), and its tangential spring is the same block's shear
     stiffness, G A / L against E A / L (docs/crushing.md, "Contact stiffness")."""
     ratio = job.contact.stiffness_ratio
-    return float(ratio) if ratio is not None else 1.0 / (2.0 * (1.0 + job.ice.poissons_ratio))
+    nu = job.ice.poissons_ratio if job.ice is not None else 0.3  # sea ice's nu without a sheet
+    return float(ratio) if ratio is not None else 1.0 / (2.0 * (1.0 + nu))
 
 
 def contact_law(job, *, kn: float, friction: float, crushing_pressure: float = math.inf) -> ContactLaw:
@@ -66,7 +67,7 @@ def structure_crushing_pressure(job, *, width: float | None) -> float:
     """The crushing pressure [Pa] of the ice on a wall or hull of ``width`` [m] (inf without [crushing]):
     crushing.structure as given, or ISO 19906's p_G for the ice thickness and that width."""
     crushing = job.crushing
-    if crushing is None:
+    if crushing is None or job.ice is None:  # no level-ice elements to crush
         return math.inf
     if crushing.structure != "iso19906":
         return float(crushing.structure)

@@ -98,6 +98,9 @@ def rest_elevation(*, mass: float, radius: float, cell_area: float, half_height:
 def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
     """Particles and bonds of the level-ice sheet of ``job``, floating at rest if the job has water."""
     ice = job.ice
+    if ice is None:  # a scene without level ice (floes, bodies): no elements
+        return empty_particles(), SheetGeometry(n_layers=1, spacing=1.0, cell_area=0.0, layer_height=0.0,
+                                                actual_thickness=0.0)
     d = ice.element_diameter
     r = 0.5 * d
     # a "cell" element stands for the whole thickness of the plate: one layer whatever the thickness
@@ -161,3 +164,13 @@ def add_bonds(p: Particles, pairs: np.ndarray) -> None:
         p.bond_L0[i, si] = p.bond_L0[j, sj] = L0
         nslot[i] += 1
         nslot[j] += 1
+
+
+def empty_particles() -> Particles:
+    """No elements: the particle arrays of a scene without level ice."""
+    return Particles(
+        gid=np.zeros(0, np.int64), x=np.zeros((0, 3)), v=np.zeros((0, 3)), w=np.zeros((0, 3)),
+        radius=np.zeros(0), mass=np.zeros(0), inertia=np.zeros(0), kind=np.zeros(0, np.int8), volume=np.zeros(0),
+        cell_area=np.zeros(0), half_height=np.zeros(0), bond_gid=np.full((0, 6), -1, np.int64),
+        bond_j=np.full((0, 6), -1, np.int32), bond_mate=np.full((0, 6), -1, np.int32), bond_L0=np.zeros((0, 6)),
+        bond_hist=np.zeros((0, 6, BOND_HIST)), nlocal=0)

@@ -41,7 +41,7 @@ def apply_loads_and_fixes(job, p, *, spacing: float) -> None:
             if comp != "free":
                 p.fix_mask[sel, d] = True
                 p.fix_velocity[sel, d] = float(comp)
-    push = job.ice.push
+    push = job.ice.push if job.ice is not None else None
     if push is not None:
         xmin = p.x[:, 0].min()
         sel = p.x[:, 0] < xmin + (push.rows - 1e-6) * spacing  # odd rows sit d/2 further in
