@@ -143,3 +143,20 @@ class Sea:
         pts = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 3))
         return sea_kinematics(self.amplitude, self.omega, self.k, self.direction, self.phase, self.depth,
                               self.g, self.density, pts, float(t))
+
+
+def sea_from_job(job) -> Sea | None:
+    """The job's [waves] as a Sea over its water (depth: water.depth, else deep; density, gravity), or
+    None: still water."""
+    w = job.waves
+    if w is None:
+        return None
+    water = job.water
+    depth = water.depth if water.depth is not None else math.inf
+    g = job.gravity if job.gravity > 0 else GRAVITY
+    if w.spectrum == "regular":
+        return Sea.regular(height=w.height, period=w.period, direction_deg=w.direction, phase=w.phase, depth=depth,
+                           g=g, density=water.density)
+    return Sea.jonswap(hs=w.height, tp=peak_period(w.period, w.gamma, w.period_kind), gamma=w.gamma,
+                       direction_deg=w.direction, components=w.components, seed=w.seed, depth=depth, g=g,
+                       density=water.density)
