@@ -76,17 +76,23 @@ def _cmd_check(args) -> int:
     print(f"  stable time step  {d['dt_stable']:.4g} s ({d['dt_governed_by']})")
     print(f"  chosen time step  {d['dt']:.4g} s ({d['dt_safety']:.2g} x the limit)")
     print(f"  steps per sim. s  {d['steps_per_second']:,.0f}")
-    print(f"  bond springs      k_n {d['bond_kn']:.4g} N/m, k_s {d['bond_ks']:.4g} N/m, "
-          f"k_bend {d['bond_kb']:.4g} N m/rad, k_twist {d['bond_kt']:.4g} N m/rad")
-    print(f"  bond strength     normal {d['normal_strength']:.4g} Pa, shear {d['shear_strength']:.4g} Pa, "
-          f"friction {d['bond_friction']:.3g}")
+    if "bond_kn" in d:
+        print(f"  bond springs      k_n {d['bond_kn']:.4g} N/m, k_s {d['bond_ks']:.4g} N/m, "
+              f"k_bend {d['bond_kb']:.4g} N m/rad, k_twist {d['bond_kt']:.4g} N m/rad")
+        print(f"  bond strength     normal {d['normal_strength']:.4g} Pa, shear {d['shear_strength']:.4g} Pa, "
+              f"friction {d['bond_friction']:.3g}")
+    if "floes" in d:
+        lo, hi = d["floe_mass_range"]
+        print(f"  floes             {d['floes']:,} of {lo / 1e3:,.0f}-{hi / 1e3:,.0f} t, concentration "
+              f"{d['floe_concentration']:.1%} of floes.area")
     if "bodies" in d:
         masses = ", ".join(f"{m / 1e3:,.1f} t" for m in d["body_mass"])
         print(f"  bodies            {d['bodies']} ({masses})")
         sub = f", {d['mooring_substeps']} line sub-step(s) per step" if d["mooring_substeps"] else " (quasi-static)"
         print(f"  mooring lines     {d['mooring_lines']} with {d['mooring_nodes']:,} DEM nodes{sub}")
     print(f"  wall time / sim. s {wall_per_s:,.1f} s on this machine, 1 rank (probe of {probe} steps: "
-          f"{d['elements'] / per_step:,.3g} particle-steps/s); the {job.run.duration:g} s job: "
+          + (f"{d['floes'] / per_step:,.3g} floe-steps/s" if d.get("floes") else
+             f"{d['elements'] / per_step:,.3g} particle-steps/s") + f"); the {job.run.duration:g} s job: "
           f"~{wall_per_s * job.run.duration:,.0f} s")
     eff = TWO_RANK_EFFICIENCY
     print(f"  on 2 ranks        ~{wall_per_s * job.run.duration / (2 * eff):,.0f} s for the job (at the {eff:.0%} "

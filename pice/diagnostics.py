@@ -29,7 +29,7 @@ def energies(sim) -> dict[str, float]:
     kr = 0.5 * float(np.sum(p.inertia[:n] * np.einsum("ij,ij->i", p.w[:n], p.w[:n])))
     pg = float(np.sum(p.mass[:n] * sim.gravity * p.x[:n, 2]))
     pb = sim.water_term.buoyancy_energy(p) if sim.water_term is not None else 0.0
-    eb = sim.bond_term.energy(p)
+    eb = sim.bond_term.energy(p) if sim.bond_term is not None else 0.0
     values, names = [ke, kr, pg, pb, eb, sim.c.contact_energy, sim.c.wall_energy], ENERGY_NAMES
     if sim.hull_term is not None:
         platform = sim.platform.energies() if sim.platform is not None else {}
@@ -37,7 +37,11 @@ def energies(sim) -> dict[str, float]:
         names += PLATFORM_ENERGY_NAMES
     parts = sim.comm.sum(np.array(values))
     out = {k: float(v) for k, v in zip(names, parts)}
-    out["total_energy"] = float(parts.sum())
+    total = float(parts.sum())
+    if sim.floes is not None:  # the same on every rank: not summed
+        out["floe_kinetic_energy"] = sim.floes.kinetic_energy()
+        total += out["floe_kinetic_energy"]
+    out["total_energy"] = total
     return out
 
 
@@ -55,7 +59,9 @@ def series_row(sim) -> dict[str, np.ndarray | float]:
     if loads is not None:
         row["wall_force"] = loads[:, :3]
         row["wall_moment"] = loads[:, 3:]
-    if sim.job.crushing is not None:  # contacts in plastic flow this step: ice-ice, ice-structure
+    if sim.floes is not None:
+        row.update(sim.floes.series_entries())
+    if sim.job.crushing is not None and sim.has_sheet:  # contacts in plastic flow this step: ice-ice, ice-structure
         structure = sum(getattr(t, "crushing", 0) for t in (sim.walls, sim.hull_term) if t is not None)
         row["crushing_contacts"] = sim.comm.sum(np.array([sim.ice_contact_term.crushing, structure], dtype=np.float64))
         row["crushed_elements"] = float(sim.n_initial - sim.comm.sum(sim.p.nlocal))  # removed so far
@@ -75,11 +81,21 @@ def describe(sim) -> dict:
     out = dict(elements=int(sim.comm.sum(p.nlocal)), bonds=int(sim.comm.sum(p.bond_count())),
                layers=sim.sheet.n_layers, thickness_modelled=sim.sheet.actual_thickness, memory_bytes=nbytes,
                dt_stable=limit.stable, dt=sim.dt, dt_safety=limit.safety, dt_governed_by=limit.governed_by,
-               steps_per_second=1.0 / sim.dt, bond_kn=b.kn, bond_ks=b.ks, bond_kb=b.kb, bond_kt=b.kt,
-               normal_strength=b.normal_strength, shear_strength=b.shear_strength, bond_friction=b.friction,
-               element_mass=float(p.mass[0]))
+               steps_per_second=1.0 / sim.dt)
+    if b is not None:
+        out.update(bond_kn=b.kn, bond_ks=b.ks, bond_kb=b.kb, bond_kt=b.kt, normal_strength=b.normal_strength,
+                   shear_strength=b.shear_strength, bond_friction=b.friction, element_mass=float(p.mass[0]))
+    if sim.floes is not None:
+        f = sim.floes.f
+        out.update(floes=sim.floes.n, floe_mass_range=[float(f.mass.min()), float(f.mass.max())] if sim.floes.n
+                   else [0.0, 0.0], floe_concentration=float(f.area.sum()) / _area(sim.job.floes.area))
     if sim.platform is not None:
         from .platform.output import describe as describe_platform
 
         out.update(describe_platform(sim.platform, sim.dt))
     return out
+
+
+def _area(box) -> float:
+    """Area [m^2] of (x0, y0, x1, y1)."""
+    return (box[2] - box[0]) * (box[3] - box[1])

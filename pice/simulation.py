@@ -32,6 +32,7 @@ from .physics.bond_calibration import bond_params_from_job
 from .physics.boundary import SpringBoundaryTerm
 from .physics.contact import IceContactTerm, ice_contact_law
 from .physics.crushing import crushed_through, remove_elements
+from .physics.floe_system import floe_time_step, floes_from_job
 from .physics.hydro import GravityTerm, WaterTerm, heave_damping, water_from_job
 from .physics.timestep import choose_step, stable_step
 from .physics.walls import WallTerm
@@ -64,14 +65,18 @@ class Simulation:
         self.comm = comm if comm is not None else world()
         # every rank builds the same whole sheet (deterministic), then keeps its own part
         refuse_oversized(job, self.comm, base_dir)  # before the sheet is allocated (pice/memory.py)
-        self.p, self.sheet = build_level_ice(job)
+        self.p, self.sheet = build_level_ice(job)  # no elements without [ice]
         p = self.p
         self.n_initial = p.n  # elements of the whole sheet (crushed ones are removed)
-        self.bond = bond_params_from_job(job, n_layers=self.sheet.n_layers, spacing=self.sheet.spacing)
-        self.contact_law = ice_contact_law(job, bond_kn=self.bond.kn)
+        self.has_sheet = job.ice is not None
+        self.bond = self.contact_law = None
+        if self.has_sheet:
+            self.bond = bond_params_from_job(job, n_layers=self.sheet.n_layers, spacing=self.sheet.spacing)
+            self.contact_law = ice_contact_law(job, bond_kn=self.bond.kn)
         self.gravity = job.gravity
         self.walls = WallTerm(job, default_kn=self.contact_law.kn, base_dir=base_dir) if job.walls else None
         self._set_up_bodies(base_dir)
+        self.floes = floes_from_job(job, self.hulls, self.poses, comm=self.comm) if job.floes is not None else None
         p.allocate_dynamic(len(self.walls.kinds) if self.walls else 0, len(self.hulls))
         p.heave_damping = heave_damping(job, p)
         apply_loads_and_fixes(job, p, spacing=self.sheet.spacing)
@@ -85,8 +90,8 @@ class Simulation:
         self.body_total = None   # rank 0: the reduced ice load on each body
         self.c = Counters()
         self.timers = None  # pice/timers.py StepTimers once enable_timers() has switched to the timed step
-        self.domain = Domain(self.comm, job.parallel, ghost_width=ghost_width(p, self.bond, job.parallel.skin),
-                             dt=self.dt)
+        width = ghost_width(p, self.bond, job.parallel.skin) if self.has_sheet else job.parallel.skin
+        self.domain = Domain(self.comm, job.parallel, ghost_width=width, dt=self.dt)
         if not restart:
             self.domain.distribute(p)
             self.compute_forces()
@@ -116,8 +121,9 @@ class Simulation:
         from .platform.hull_contact import HullContactTerm
         from .platform.output import Peaks
 
-        self.hulls = hulls_from_job(self.job, default_kn=self.contact_law.kn,
-                                    reach=float(self.p.radius.max()), base_dir=base_dir)
+        law = self.contact_law
+        self.hulls = hulls_from_job(self.job, default_kn=law.kn if law is not None else 1.0,
+                                    reach=float(self.p.radius.max()) if self.p.n else 0.0, base_dir=base_dir)
         self.poses = initial_poses(self.job)
         refuse_initial_overlap(self.job, self.p, self.hulls, self.poses)
         self.platform = on_root(self.comm, lambda: build_platform(self.job, self.hulls))
@@ -128,9 +134,11 @@ class Simulation:
     def _force_terms(self) -> list:
         """The force terms the job declares, in the order the step applies them."""
         job, p = self.job, self.p
-        self.bond_term = BondTerm(self.bond.kernel_law(mass=float(p.mass.min()), inertia=float(p.inertia.min())))
-        self.ice_contact_term = IceContactTerm(self.contact_law, skin=CONTACT_SKIN * 2.0 * float(p.radius.max()))
-        terms = [self.bond_term, self.ice_contact_term]
+        terms, self.bond_term, self.ice_contact_term = [], None, None
+        if self.has_sheet:
+            self.bond_term = BondTerm(self.bond.kernel_law(mass=float(p.mass.min()), inertia=float(p.inertia.min())))
+            self.ice_contact_term = IceContactTerm(self.contact_law, skin=CONTACT_SKIN * 2.0 * float(p.radius.max()))
+            terms = [self.bond_term, self.ice_contact_term]
         self.n_ghost_terms = len(terms)  # the first terms read ghosts; the rest act on owned elements only
         if self.walls is not None:
             terms.append(self.walls)
@@ -140,16 +148,18 @@ class Simulation:
             terms.append(self.water_term)
         elif job.gravity != 0.0:
             terms.append(GravityTerm(job.gravity))
-        push = job.ice.push
+        push = job.ice.push if self.has_sheet else None
         self.boundary_term = None
         if push is not None and push.stiffness is not None:
             self.boundary_term = SpringBoundaryTerm(speed=push.speed, damping_ratio=push.damping_ratio)
             terms.append(self.boundary_term)
-        if self.hull_term is not None:
+        if self.hull_term is not None and self.has_sheet:
             terms.append(self.hull_term)
         return terms
 
     def _time_step(self):
+        if not self.has_sheet:  # floes and bodies alone: the floes' contact law sets the step
+            return floe_time_step(self.job, self.floes)
         p, b, law = self.p, self.bond, self.contact_law
         push = self.job.ice.push
         m, inertia = float(p.mass.min()), float(p.inertia[int(np.argmin(p.mass))])
@@ -184,6 +194,8 @@ class Simulation:
         self.domain.finish_exchange(p)
         for term in self.terms[:self.n_ghost_terms]:  # bonds and contacts read the ghosts
             term.add_forces(p, self.c, self.dt)
+        if self.floes is not None:  # every rank: the floes' forces and their loads on the bodies
+            self.floes.compute_forces(self.poses, self.c.time, self.dt)
         if self.coupling is not None:
             self._reduce_loads()
 
@@ -204,6 +216,8 @@ class Simulation:
             lap("waiting")
         if total is not None:
             self.wall_total, self.body_total = total[:nw], total[nw:]
+            if self.floes is not None:  # the same on every rank: not reduced
+                self.body_total = self.body_total + self.floes.body_loads
         if self.platform is not None:
             self.platform.loads(self.body_total)
             self.peaks.track(self.body_total[:, :3], self.platform.fairlead_tensions())
@@ -218,6 +232,9 @@ class Simulation:
         platform = self.platform
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
         drift(p.nlocal, p.x, p.v, dt)
+        if self.floes is not None:  # every rank: all floes
+            self.floes.kick(half)
+            self.floes.drift(dt)
         if platform is not None:  # rank 0: bodies and lines to t + dt
             platform.kick(half)
             platform.drift(dt)
@@ -225,9 +242,12 @@ class Simulation:
         c.time = c.step * dt
         if self.hulls:
             self.broadcast_poses()
-        self.domain.exchange(p, c.step)
+        if self.has_sheet:
+            self.domain.exchange(p, c.step)
         self.compute_forces()
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
+        if self.floes is not None:
+            self.floes.kick(half)
         if platform is not None:
             platform.kick(half)
 
@@ -251,6 +271,9 @@ class Simulation:
         platform = self.platform
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
         drift(p.nlocal, p.x, p.v, dt)
+        if self.floes is not None:
+            self.floes.kick(half)
+            self.floes.drift(dt)
         lap("integration")
         if platform is not None:
             platform.kick(half)
@@ -261,9 +284,12 @@ class Simulation:
         if self.hulls:
             self.broadcast_poses()
             lap("waiting")
-        self.domain.exchange(p, c.step, timers)  # laps "halo" and "waiting"
+        if self.has_sheet:
+            self.domain.exchange(p, c.step, timers)  # laps "halo" and "waiting"
         self._timed_forces(lap)
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
+        if self.floes is not None:
+            self.floes.kick(half)
         lap("integration")
         if platform is not None:
             platform.kick(half)
@@ -283,6 +309,9 @@ class Simulation:
         for term in self.terms[:self.n_ghost_terms]:
             term.add_forces(p, self.c, self.dt)
             lap(term_part(term))
+        if self.floes is not None:
+            self.floes.compute_forces(self.poses, self.c.time, self.dt)
+            lap("floes")
         if self.coupling is not None:
             self._reduce_loads(lap)
 

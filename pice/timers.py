@@ -30,6 +30,7 @@ PARTS = {
     "waiting": "collectives: the loads' reduction, the poses' broadcast, the rebuild check, the health "
                "check's flags and bond lengths (where ranks wait for the slowest)",
     "platform": "rank 0: the bodies' and lines' kick, drift and loads",
+    "floes": "the floes' water loads, contacts and their Allgatherv (physics/floe_system.py)",
     "checks": "the health check's local work, the removal of crushed-through elements",
     "output": "series rows and broken-bond events (pice bench writes them at the job's series_every)",
     "other": "force terms without a part of their own, the loads' assembly before the reduction",

@@ -13,6 +13,16 @@ momentum too (both act at one point).
 
 History per pair, kept at the lower-gid floe (the slots of kernels/contacts._find_slot): the
 tangential force (3) and delta_p.
+
+The kernels compute the contacts of the floes in an index range [lo, hi) (one rank's floes,
+physics/floe_system.py) and write each contact as a record, not into force arrays:
+
+    pair record       (a, b, f (3), torque on a (3), torque on b (3))          PAIR_RECORD = 11 doubles
+    structure record  (floe, f on it (3), its torque (3), the structure's load (6))  STRUCTURE_RECORD = 13
+
+``apply_pair_records`` and ``apply_structure_records`` add them to the floes in record order. Every
+rank gathers the records of all ranks in rank order, which is the order one rank computes them in:
+the floes' forces are then the same bits on any number of ranks.
 """
 
 import math
@@ -23,52 +33,54 @@ from numba import njit
 from . import JIT
 from .contact_law import plastic_normal_force, tangential_force
 from .contacts import _find_slot, build_cell_list, cell_neighbourhood
-from .polyhedra import contact_geometry, face_planes, separated_by_planes
+from .polyhedra import clip, contact_geometry, face_planes, separated_by_planes, volume_centroid
+
+PAIR_RECORD = 11
+STRUCTURE_RECORD = 13
 
 
 @njit(**JIT)
-def floe_contacts(n, gid, x, v, omega, mass, bound, pts, counts, kn, cn, kt, mu, pressure, dt, step,
-                  cgid, stamp, hist, force, torque):
-    """Add the contact forces [N] and torques about each centroid [N m] of every overlapping pair of
-    the n floes, the candidates from a cell list of their centres (cells of the largest bounding
-    diameter). pts, counts: (n, MAX_FACES, MAX_FACE_VERTS, 3), (n, MAX_FACES) world polyhedra; bound:
-    (n,) bounding radius about x [m]. Returns (contacts, contacts in plastic flow, largest overlap
-    volume [m^3])."""
-    ncontact = 0
+def floe_contacts(n, lo, hi, gid, x, v, omega, mass, bound, pts, counts, kn, cn, kt, mu, pressure, dt, step,
+                  cgid, stamp, hist, records):
+    """The contacts of every overlapping pair (i, j), i in [lo, hi) and j > i, of the n floes, as pair
+    records (module docstring) in ``records`` (m, PAIR_RECORD); the candidates come from a cell list of
+    their centres (cells of the largest bounding diameter). pts, counts: (n, MAX_FACES,
+    MAX_FACE_VERTS, 3), (n, MAX_FACES) world polyhedra; bound: (n,) bounding radius about x [m].
+    Returns (records needed (written up to m), contacts in plastic flow, largest overlap volume [m^3])."""
+    nrec = 0
     nplastic = 0
     worst = 0.0
-    if n == 0:
-        return ncontact, nplastic, worst
+    if n == 0 or hi <= lo:
+        return nrec, nplastic, worst
     planes = face_planes(pts, counts)
     size = 2.0 * bound[:n].max() * 1.0001
     origin, dims, start, order, size = build_cell_list(x, n, size)
     near = np.empty(n, dtype=np.int64)
-    for i in range(n):
+    for i in range(lo, hi):
         for q in range(cell_neighbourhood(x[i], origin, dims, start, order, size, near)):
             j = near[q]
             if j > i:
-                ncontact, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn,
-                                                  kt, mu, pressure, dt, step, cgid, stamp, hist, force, torque,
-                                                  ncontact, nplastic, worst)
-    return ncontact, nplastic, worst
+                nrec, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn,
+                                              kt, mu, pressure, dt, step, cgid, stamp, hist, records,
+                                              nrec, nplastic, worst)
+    return nrec, nplastic, worst
 
 
 @njit(**JIT)
 def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, mu, pressure, dt, step, cgid,
-          stamp, hist, force, torque, ncontact, nplastic, worst):
+          stamp, hist, records, nrec, nplastic, worst):
     """The contact of floes i and j, if they overlap (``floe_contacts``); returns the updated counts."""
     d = x[j] - x[i]
     reach = bound[i] + bound[j]
     if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach:
-        return ncontact, nplastic, worst
+        return nrec, nplastic, worst
     if (separated_by_planes(planes[i], counts[i], pts[j], counts[j])
             or separated_by_planes(planes[j], counts[j], pts[i], counts[i])):
-        return ncontact, nplastic, worst
+        return nrec, nplastic, worst
     a, b = (i, j) if gid[i] < gid[j] else (j, i)
     vol, c, nrm, area, depth = contact_geometry(pts[a], counts[a], pts[b], counts[b])
     if vol <= 0.0:
-        return ncontact, nplastic, worst
-    ncontact += 1
+        return nrec, nplastic, worst
     worst = max(worst, vol)
     ra, rb = c - x[a], c - x[b]
     # velocity of b's material at the contact point relative to a's
@@ -89,28 +101,57 @@ def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, 
         cgid[a, s] = gid[b]
         stamp[a, s] = step
         hist[a, s, 0], hist[a, s, 1], hist[a, s, 2], hist[a, s, 3] = t0, t1, t2, dp
-    f = fn * nrm + np.array([t0, t1, t2])
-    force[b] += f
-    force[a] -= f
-    torque[b] += np.cross(rb, f)
-    torque[a] -= np.cross(ra, f)
-    return ncontact, nplastic, worst
+    if nrec < records.shape[0]:
+        f = fn * nrm + np.array([t0, t1, t2])
+        ta, tb = np.cross(ra, f), np.cross(rb, f)
+        r = records[nrec]
+        r[0], r[1] = a, b
+        r[2], r[3], r[4] = f[0], f[1], f[2]
+        r[5], r[6], r[7] = -ta[0], -ta[1], -ta[2]
+        r[8], r[9], r[10] = tb[0], tb[1], tb[2]
+    return nrec + 1, nplastic, worst
 
 
 @njit(**JIT)
-def structure_contacts(n, x, v, omega, mass, bound, pts, counts, s_pts, s_counts, s_centre, s_bound, s_v, s_w,
-                       kn, cn, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist, force, torque):
-    """Add the contact of every floe with a convex structure (s_pts, s_counts: its faces in space;
-    s_centre [m]: its reference point, the centre of its bounding sphere of radius s_bound and of
-    its motion: velocity s_v [m/s] and angular velocity s_w [rad/s] there; zero for a fixed one):
-    the law of ``floe_contacts`` with the floe's own mass as m_eff. The history is kept in the
-    floe's slot keyed by ``slot_gid`` (a negative key, distinct from every floe's gid). Returns
-    (load on the structure (6,): force [N] and moment about s_centre [N m], contacts, contacts in
-    plastic flow)."""
-    load = np.zeros(6)
-    ncontact = 0
+def apply_pair_records(records, nrec, force, torque):
+    """Add ``nrec`` pair records (module docstring) to the floes' forces [N] and torques [N m], in order:
+    b receives f, a the opposite."""
+    for k in range(nrec):
+        r = records[k]
+        a, b = int(r[0]), int(r[1])
+        for e in range(3):
+            force[b, e] += r[2 + e]
+            force[a, e] -= r[2 + e]
+            torque[a, e] += r[5 + e]
+            torque[b, e] += r[8 + e]
+
+
+@njit(**JIT)
+def apply_structure_records(records, nrec, force, torque, load):
+    """Add ``nrec`` structure records to the floes' forces and torques and to the structure's load (6,)
+    (force [N], moment about its reference point [N m]), in order."""
+    for k in range(nrec):
+        r = records[k]
+        i = int(r[0])
+        for e in range(3):
+            force[i, e] += r[1 + e]
+            torque[i, e] += r[4 + e]
+        for e in range(6):
+            load[e] += r[7 + e]
+
+
+@njit(**JIT)
+def structure_contacts(lo, hi, x, v, omega, mass, bound, pts, counts, s_pts, s_counts, s_centre, s_bound, s_v, s_w,
+                       kn, cn, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist, records):
+    """The contact of every floe in [lo, hi) with a convex structure (s_pts, s_counts: its faces in
+    space; s_centre [m]: its reference point, the centre of its bounding sphere of radius s_bound and
+    of its motion: velocity s_v [m/s] and angular velocity s_w [rad/s] there; zero for a fixed one):
+    the law of ``floe_contacts`` with the floe's own mass as m_eff, as structure records in
+    ``records`` (m, STRUCTURE_RECORD). The history is kept in the floe's slot keyed by ``slot_gid`` (a
+    negative key, distinct from every floe's gid). Returns (records needed, contacts in plastic flow)."""
+    nrec = 0
     nplastic = 0
-    for i in range(n):
+    for i in range(lo, hi):
         d = x[i] - s_centre
         reach = bound[i] + s_bound
         if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach:
@@ -118,31 +159,86 @@ def structure_contacts(n, x, v, omega, mass, bound, pts, counts, s_pts, s_counts
         vol, c, nrm, area, depth = contact_geometry(pts[i], counts[i], s_pts, s_counts)
         if vol <= 0.0:
             continue
-        ncontact += 1
-        r = c - x[i]
-        # the floe's material at the contact point relative to the structure's (the law's "element" is
-        # the floe, its normal from the structure towards the floe)
-        n0, n1, n2 = -nrm[0], -nrm[1], -nrm[2]
-        u = v[i] + np.cross(omega[i], r) - (s_v + np.cross(s_w, c - s_centre))
-        un = u[0] * n0 + u[1] * n1 + u[2] * n2
-        s, found = _find_slot(cgid, stamp, i, slot_gid, step)
-        h0 = hist[i, s, 0] if found else 0.0
-        h1 = hist[i, s, 1] if found else 0.0
-        h2 = hist[i, s, 2] if found else 0.0
-        dp0 = hist[i, s, 3] if found else 0.0
-        zeta = cn / (2.0 * math.sqrt(mass[i] * kn)) if kn > 0.0 else 0.0
-        fn, dp = plastic_normal_force(kn, zeta, mass[i], depth, dp0, un, pressure * area)
-        t0, t1, t2, _ = tangential_force(h0, h1, h2, n0, n1, n2, u[0], u[1], u[2], un, kt, dt, mu * fn)
-        if dp > dp0:
-            nplastic += 1
-        if s >= 0:
-            cgid[i, s] = slot_gid
-            stamp[i, s] = step
-            hist[i, s, 0], hist[i, s, 1], hist[i, s, 2], hist[i, s, 3] = t0, t1, t2, dp
+        # the structure's normal points from the floe towards it; the law's normal from it to the floe
+        nrec, nplastic = _on_structure(i, c, -nrm[0], -nrm[1], -nrm[2], area, depth, x, v, omega, mass, s_centre,
+                                       s_v, s_w, kn, cn, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist,
+                                       records, nrec, nplastic)
+    return nrec, nplastic
+
+
+@njit(**JIT)
+def _on_structure(i, c, n0, n1, n2, area, depth, x, v, omega, mass, s_centre, s_v, s_w, kn, cn, kt, mu, pressure,
+                  dt, step, slot_gid, cgid, stamp, hist, records, nrec, nplastic):
+    """The law on floe i against a structure at contact point c [m], normal (n0, n1, n2) from the
+    structure towards the floe, contact area [m^2] and depth [m]; one structure record."""
+    r = c - x[i]
+    # the floe's material at the contact point relative to the structure's
+    u = v[i] + np.cross(omega[i], r) - (s_v + np.cross(s_w, c - s_centre))
+    un = u[0] * n0 + u[1] * n1 + u[2] * n2
+    s, found = _find_slot(cgid, stamp, i, slot_gid, step)
+    h0 = hist[i, s, 0] if found else 0.0
+    h1 = hist[i, s, 1] if found else 0.0
+    h2 = hist[i, s, 2] if found else 0.0
+    dp0 = hist[i, s, 3] if found else 0.0
+    zeta = cn / (2.0 * math.sqrt(mass[i] * kn)) if kn > 0.0 else 0.0
+    fn, dp = plastic_normal_force(kn, zeta, mass[i], depth, dp0, un, pressure * area)
+    t0, t1, t2, _ = tangential_force(h0, h1, h2, n0, n1, n2, u[0], u[1], u[2], un, kt, dt, mu * fn)
+    if dp > dp0:
+        nplastic += 1
+    if s >= 0:
+        cgid[i, s] = slot_gid
+        stamp[i, s] = step
+        hist[i, s, 0], hist[i, s, 1], hist[i, s, 2], hist[i, s, 3] = t0, t1, t2, dp
+    if nrec < records.shape[0]:
         f = np.array([fn * n0 + t0, fn * n1 + t1, fn * n2 + t2])  # on the floe
-        force[i] += f
-        torque[i] += np.cross(r, f)
-        arm = c - s_centre
-        load[:3] -= f
-        load[3:] -= np.cross(arm, f)
-    return load, ncontact, nplastic
+        tq = np.cross(r, f)
+        m = np.cross(c - s_centre, f)
+        rec = records[nrec]
+        rec[0] = i
+        for e in range(3):
+            rec[1 + e] = f[e]
+            rec[4 + e] = tq[e]
+            rec[7 + e] = -f[e]
+            rec[10 + e] = -m[e]
+    return nrec + 1, nplastic
+
+
+@njit(**JIT)
+def plane_contacts(lo, hi, x, v, omega, mass, pts, counts, normal, offset, kn, cn, kt, mu, pressure, dt, step,
+                   slot_gid, cgid, stamp, hist, records):
+    """The contact of every floe in [lo, hi) with a fixed wall filling the half-space normal . x >= offset
+    (normal (3,) a unit vector into the wall): the floe's part inside the wall is the overlap; its area
+    on the wall's plane is A_c, its volume over A_c the depth. Structure records as
+    ``structure_contacts`` (the load's moment about the origin). Returns (records needed, plastic)."""
+    nrec = 0
+    nplastic = 0
+    into = -normal
+    zero = np.zeros(3)
+    for i in range(lo, hi):
+        beyond = False
+        for f in range(counts.shape[1]):
+            for k in range(counts[i, f]):
+                p = pts[i, f, k]
+                if normal[0] * p[0] + normal[1] * p[1] + normal[2] * p[2] > offset:
+                    beyond = True
+        if not beyond:
+            continue
+        side = np.zeros(counts.shape[1], np.int64)
+        sp, sc, sides = clip(pts[i], counts[i], side, into, -offset, 1)
+        vol, c = volume_centroid(sp, sc)
+        if vol <= 0.0:
+            continue
+        area = 0.0
+        for f in range(sc.shape[0]):
+            if sc[f] >= 3 and sides[f] == 1:
+                for k in range(1, sc[f] - 1):
+                    a = sp[f, k] - sp[f, 0]
+                    b = sp[f, k + 1] - sp[f, 0]
+                    cr = np.cross(a, b)
+                    area += 0.5 * math.sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2])
+        if area <= 0.0:
+            continue
+        nrec, nplastic = _on_structure(i, c, into[0], into[1], into[2], area, vol / area, x, v, omega, mass, zero,
+                                       zero, zero, kn, cn, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist,
+                                       records, nrec, nplastic)
+    return nrec, nplastic

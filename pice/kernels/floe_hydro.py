@@ -62,9 +62,9 @@ def wave_pressure_load(sp, sc, side, x, amp, omega, k, direction, phase, depth, 
 
 
 @njit(**JIT)
-def floe_water(n, x, v, omega, rot, mass, inertia, area, pts, counts, level, rho_w, g, current, skin, form,
+def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level, rho_w, g, current, skin, form,
                damping_ratio, sea_amp, sea_omega, sea_k, sea_direction, sea_phase, sea_depth, t, force, torque):
-    """Add the water's forces [N] and torques about each centre [N m] to the n floes; returns the
+    """Add the water's forces [N] and torques about each centre [N m] to the floes lo..hi-1; returns the
     total submerged volume [m^3]. omega (n, 3) [rad/s] and the torques in space; rot (n, 3, 3) each
     floe's attitude (body to space, its principal axes); pts, counts: world polyhedra; area:
     water-plane areas [m^2]; inertia (n, 3) principal moments [kg m^2]; current (2,) [m/s]; skin
@@ -73,7 +73,7 @@ def floe_water(n, x, v, omega, rot, mass, inertia, area, pts, counts, level, rho
     floe's centre adds to the current in the drag."""
     up = np.array([0.0, 0.0, 1.0])
     total = 0.0
-    for i in range(n):
+    for i in range(lo, hi):
         side = np.zeros(counts.shape[1], np.int64)
         # with waves the floe floats on the surface where it is: its buoyancy is cut at level + eta there,
         # and the dynamic pressure less rho g eta acts on its wetted faces (module docstring)

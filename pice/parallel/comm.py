@@ -56,6 +56,10 @@ class SerialComm:
     def exchange_doubles(self, sendbuf, sendcounts):
         return sendbuf.copy(), np.asarray(sendcounts)
 
+    def allgather_doubles(self, local):
+        """Every rank's float64 vector, concatenated in rank order, on every rank; and the counts."""
+        return np.array(local, dtype=np.float64), np.array([len(local)], np.int64)
+
     def start_neighbour_exchange(self, sends, recvs):
         """No other rank: nothing is sent; every receive is for this rank's own send."""
         return [a.copy() for _, a in sends]
@@ -143,6 +147,17 @@ class MPIComm:
         self.comm.Alltoallv([np.ascontiguousarray(sendbuf), (sendcounts, sdispl), D],
                             [recvbuf, (recvcounts, rdispl), D])
         return recvbuf, recvcounts
+
+    def allgather_doubles(self, local):
+        """Every rank's float64 vector ``local``, concatenated in rank order, on every rank (Allgatherv);
+        returns (the concatenation, each rank's count)."""
+        local = np.ascontiguousarray(local, dtype=np.float64)
+        counts = np.empty(self.size, np.int64)
+        self.comm.Allgather(np.array([len(local)], np.int64), counts)
+        displ = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        out = np.empty(int(counts.sum()))
+        self.comm.Allgatherv(local, [out, (counts, displ), self._MPI.DOUBLE])
+        return out, counts
 
     def start_neighbour_exchange(self, sends, recvs):
         """Post non-blocking messages of float64: ``sends`` [(rank, array)], ``recvs`` [(rank, doubles)].

@@ -49,6 +49,8 @@ class Domain:
         par = self.parallel
         if par.domain is not None:
             lo, hi = par.domain
+        elif p.n == 0:  # no level ice (floes, bodies): a nominal domain with nothing in it
+            lo, hi = (0.0, 0.0), (1.0, 1.0)
         else:
             lo, hi = tuple(p.x[:, :2].min(axis=0)), tuple(p.x[:, :2].max(axis=0))
         self.decomp = uniform(self.comm.size, lo=lo, hi=hi)

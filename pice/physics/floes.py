@@ -16,12 +16,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kernels.floe_contact import floe_contacts, structure_contacts
+from ..errors import InstabilityError
+from ..kernels.floe_contact import (PAIR_RECORD, STRUCTURE_RECORD, apply_pair_records, apply_structure_records,
+                                    floe_contacts, plane_contacts, structure_contacts)
 from ..kernels.floe_hydro import floe_water
 from ..kernels.floe_motion import floe_omegas, floe_rotations, turn_all, world_polyhedra
 from ..kernels.polyhedra import prism
 from ..scenes.floe_field import polygon_area, polygon_centroid
 from ..state import MAX_CONTACTS
+
+RECORDS_PER_FLOE = 24  # room for the floe-floe contacts of one floe at once (a convex floe in a field touches fewer)
+
+
+def _refuse_overflow(nrec: int, rec: np.ndarray, what: str) -> None:
+    if nrec > rec.shape[0]:
+        raise InstabilityError(f"{nrec} {what} contacts at once, more than the {rec.shape[0]} the step has room for: "
+                               "floes piled on each other (a blow-up, or a time step too large for the contact law)")
 
 
 @dataclass
@@ -129,6 +139,13 @@ class Floes:
                                 "w": np.zeros(3)})
         self.structure_load = np.zeros((len(self.structures), 6))
 
+    def add_wall(self, normal, offset: float) -> None:
+        """A fixed wall filling the half-space normal . x >= offset [m] (normal: a unit vector into the
+        wall); its load's moment is about the origin."""
+        n = np.asarray(normal, float)
+        self.structures.append({"plane": (n / np.linalg.norm(n), float(offset)), "x": np.zeros(3)})
+        self.structure_load = np.zeros((len(self.structures), 6))
+
     def move_structure(self, k: int, *, x, q, v, w) -> None:
         """Pose (reference point x [m], attitude q) and motion (v [m/s], w [rad/s]) of structure k."""
         s = self.structures[k]
@@ -144,30 +161,62 @@ class Floes:
         return world_polyhedra(self.body_pts, self.body_counts, self.x, self.q), self.body_counts
 
     def compute_forces(self, dt: float) -> None:
+        """Forces [N] and torques [N m] on every floe at the current state (one rank: all floes)."""
         self.force[:] = 0.0
         self.torque[:] = 0.0
+        n = len(self.mass)
         pts, counts = self.world()
-        law = self.law
         omega = self.omega
-        self.stats = floe_contacts(len(self.mass), self.gid, self.x, self.v, omega, self.mass, self.bound,
-                                   pts, counts, law.kn, law.cn, law.kt, law.mu, law.pressure, dt, self.step_count,
-                                   self.cgid, self.stamp, self.hist, self.force, self.torque)
+        self.water_loads(0, n, pts, counts, omega)
         for k, st in enumerate(self.structures):
-            s_pts = world_polyhedra(st["local"][None], st["counts"][None], st["x"][None], st["q"][None])[0]
-            load, _, _ = structure_contacts(len(self.mass), self.x, self.v, omega, self.mass, self.bound, pts,
-                                            counts, s_pts, st["counts"], st["x"], st["bound"], st["v"], st["w"],
-                                            law.kn, law.cn, law.kt, law.mu, law.pressure, dt, self.step_count,
-                                            -1 - k, self.cgid, self.stamp, self.hist, self.force, self.torque)
-            self.structure_load[k] = load
+            rec, nrec, _ = self.structure_records(k, 0, n, pts, counts, omega, dt)
+            self.structure_load[k] = 0.0
+            apply_structure_records(rec, nrec, self.force, self.torque, self.structure_load[k])
+        rec, nrec, nplastic, worst = self.pair_records(0, n, pts, counts, omega, dt)
+        apply_pair_records(rec, nrec, self.force, self.torque)
+        self.stats = (nrec, nplastic, worst)
+
+    def water_loads(self, lo, hi, pts, counts, omega) -> None:
+        """The water's loads on floes lo..hi-1 added to force and torque (nothing without water)."""
         w = self.water
-        if w is not None:
-            rot = floe_rotations(self.q)
-            sea = w.sea
-            waves = ((sea.amplitude, sea.omega, sea.k, sea.direction, sea.phase, sea.depth) if sea is not None
-                     else (np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 2)), np.zeros(0), math.inf))
-            floe_water(len(self.mass), self.x, self.v, omega, rot, self.mass, self.inertia, self.area, pts, counts,
-                       w.level, w.density, w.gravity, np.asarray(w.current, float), w.skin, w.form, w.damping_ratio,
-                       *waves, self.time, self.force, self.torque)
+        if w is None:
+            return
+        rot = floe_rotations(self.q)
+        sea = w.sea
+        waves = ((sea.amplitude, sea.omega, sea.k, sea.direction, sea.phase, sea.depth) if sea is not None
+                 else (np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 2)), np.zeros(0), math.inf))
+        floe_water(lo, hi, self.x, self.v, omega, rot, self.mass, self.inertia, self.area, pts, counts, w.level,
+                   w.density, w.gravity, np.asarray(w.current, float), w.skin, w.form, w.damping_ratio, *waves,
+                   self.time, self.force, self.torque)
+
+    def pair_records(self, lo, hi, pts, counts, omega, dt):
+        """(records, count, contacts in plastic flow, largest overlap [m^3]) of the floe-floe contacts of
+        floes lo..hi-1 (kernels/floe_contact.py)."""
+        law = self.law
+        rec = np.empty((RECORDS_PER_FLOE * max(hi - lo, 1), PAIR_RECORD))
+        nrec, nplastic, worst = floe_contacts(len(self.mass), lo, hi, self.gid, self.x, self.v, omega, self.mass,
+                                              self.bound, pts, counts, law.kn, law.cn, law.kt, law.mu, law.pressure,
+                                              dt, self.step_count, self.cgid, self.stamp, self.hist, rec)
+        _refuse_overflow(nrec, rec, "floe-floe")
+        return rec, nrec, nplastic, worst
+
+    def structure_records(self, k, lo, hi, pts, counts, omega, dt):
+        """(records, count, contacts in plastic flow) of floes lo..hi-1 against structure k."""
+        st, law = self.structures[k], self.law
+        rec = np.empty((max(hi - lo, 1), STRUCTURE_RECORD))
+        if st.get("plane") is not None:
+            normal, offset = st["plane"]
+            nrec, nplastic = plane_contacts(lo, hi, self.x, self.v, omega, self.mass, pts, counts, normal, offset,
+                                            law.kn, law.cn, law.kt, law.mu, law.pressure, dt, self.step_count,
+                                            -1 - k, self.cgid, self.stamp, self.hist, rec)
+        else:
+            s_pts = world_polyhedra(st["local"][None], st["counts"][None], st["x"][None], st["q"][None])[0]
+            nrec, nplastic = structure_contacts(lo, hi, self.x, self.v, omega, self.mass, self.bound, pts, counts,
+                                                s_pts, st["counts"], st["x"], st["bound"], st["v"], st["w"], law.kn,
+                                                law.cn, law.kt, law.mu, law.pressure, dt, self.step_count, -1 - k,
+                                                self.cgid, self.stamp, self.hist, rec)
+        _refuse_overflow(nrec, rec, "floe-structure")
+        return rec, nrec, nplastic
 
     def step(self, dt: float) -> None:
         """Velocity Verlet: half kick, drift with the exact free rotation, forces, half kick."""

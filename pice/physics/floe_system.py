@@ -1,0 +1,254 @@
+"""A job's broken ice: the rigid floes of [floes] on every rank, their work split over the ranks
+(issue 14; the floes themselves: physics/floes.py).
+
+Every rank holds the state of every floe (position, velocity, attitude, angular momentum: about
+100 bytes a floe, plus its prism) and steps all of them alike. The forces are computed by each
+floe's owner: rank r owns the contiguous block [lo, hi) of floes in gid order. It computes the
+water's loads on its floes, their contacts with floes of higher gid and with the structures, as
+records (kernels/floe_contact.py); one Allgatherv a step hands every rank every record in rank
+order, which is the order one rank computes them in. The forces, and so the whole run, are then
+the same bits on any number of ranks. A contact's history lives with the owner of its lower-gid
+floe.
+
+Why not a spatial decomposition, as the level ice has: a floe field is small (seed 003's largest,
+1.2 km x 2 km at 90 %, is about 2,300 floes: under a megabyte of state), so replicating the state
+costs nothing, and the work, which is in the contacts and the water's clipping, still divides over
+the ranks. A field of 10^5 floes or more would want the level ice's decomposition.
+
+Structures: each body's hull (its convex pieces: a revolved hull's frusta, a box) moves with the
+body's pose, which rank 0 broadcasts; the floes' loads on it are summed in record order and handed
+to the platform with the level ice's. ``floes.sides = "confined"`` adds two fixed walls along the
+drift (half-spaces beyond y0 and y1 of the field's area).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+
+from ..errors import JobError
+from ..kernels.floe_contact import PAIR_RECORD, STRUCTURE_RECORD, apply_pair_records, apply_structure_records
+from ..kernels.floe_motion import turn_all
+from ..kernels.polyhedra import contact_geometry
+from .floes import FloeLaw, Floes, FloeWater, contact_step_limit
+from .timestep import StepLimit
+
+
+class FloeSystem:
+    """The job's floes on one rank of ``comm`` (module docstring). ``body_pieces[k]``: the structure
+    indices of body k's convex pieces; the structures after them are walls."""
+
+    def __init__(self, floes: Floes, comm, body_pieces: list[list[int]]):
+        self.f, self.comm, self.body_pieces = floes, comm, body_pieces
+        n = len(floes.mass)
+        self.lo, self.hi = n * comm.rank // comm.size, n * (comm.rank + 1) // comm.size
+        self.body_loads = np.zeros((len(body_pieces), 6))  # force [N], moment about the body's CG [N m]
+        self.contacts = 0            # floe-floe contacts in the last step
+        self.structure_contacts = 0  # floe-structure and floe-wall contacts
+        self.plastic = 0             # contacts in plastic flow (crushing)
+
+    @property
+    def n(self) -> int:
+        return len(self.f.mass)
+
+    def kick(self, h: float) -> None:
+        """Velocities and angular momenta by h [s] of the current forces."""
+        f = self.f
+        f.v += h * f.force / f.mass[:, None]
+        f.L += h * f.torque
+
+    def drift(self, dt: float) -> None:
+        """Positions and attitudes over dt [s] (the exact free rotation)."""
+        f = self.f
+        f.x += dt * f.v
+        turn_all(f.q, f.L, f.inertia, dt)
+        f.step_count += 1
+
+    def compute_forces(self, poses: np.ndarray, time: float, dt: float) -> None:
+        """Forces and torques on every floe, and their loads on the bodies at ``poses`` (n_bodies, 13: x,
+        q, v, omega), at ``time`` [s] (collective: one Allgatherv)."""
+        f = self.f
+        f.time = time
+        for k, pieces in enumerate(self.body_pieces):
+            for s in pieces:
+                f.move_structure(s, x=poses[k, :3], q=poses[k, 3:7], v=poses[k, 7:10], w=poses[k, 10:13])
+        pts, counts = f.world()
+        omega = f.omega
+        lo, hi = self.lo, self.hi
+        f.force[:] = 0.0
+        f.torque[:] = 0.0
+        f.water_loads(lo, hi, pts, counts, omega)
+        structure = [f.structure_records(k, lo, hi, pts, counts, omega, dt) for k in range(len(f.structures))]
+        pairs, npair, nplastic, _ = f.pair_records(lo, hi, pts, counts, omega, dt)
+        nplastic += sum(r[2] for r in structure)
+        head = [hi - lo, npair, nplastic] + [r[1] for r in structure]
+        message = np.concatenate([np.asarray(head, float), f.force[lo:hi].ravel(), f.torque[lo:hi].ravel()]
+                                 + [r[0][:r[1]].ravel() for r in structure] + [pairs[:npair].ravel()])
+        everything, counts_per_rank = self.comm.allgather_doubles(message)
+        self._apply(everything, counts_per_rank)
+
+    def _apply(self, everything: np.ndarray, counts_per_rank: np.ndarray) -> None:
+        """Every rank's records, in rank order, onto the floes and structures (module docstring)."""
+        f, ns = self.f, len(self.f.structures)
+        blocks, at = [], 0
+        for count in counts_per_rank:
+            blocks.append(everything[at:at + int(count)])
+            at += int(count)
+        parsed = []
+        row = 0
+        for b in blocks:
+            own, npair, nplastic = int(b[0]), int(b[1]), int(b[2])
+            nstruct = b[3:3 + ns].astype(np.int64)
+            at = 3 + ns
+            f.force[row:row + own] = b[at:at + 3 * own].reshape(own, 3)
+            f.torque[row:row + own] = b[at + 3 * own:at + 6 * own].reshape(own, 3)
+            at += 6 * own
+            recs = []
+            for k in range(ns):
+                recs.append(b[at:at + STRUCTURE_RECORD * nstruct[k]].reshape(-1, STRUCTURE_RECORD))
+                at += STRUCTURE_RECORD * nstruct[k]
+            parsed.append((recs, b[at:at + PAIR_RECORD * npair].reshape(-1, PAIR_RECORD), nplastic))
+            row += own
+        f.structure_load[:] = 0.0
+        for k in range(ns):
+            for recs, _, _ in parsed:
+                apply_structure_records(recs[k], len(recs[k]), f.force, f.torque, f.structure_load[k])
+        for _, pairs, _ in parsed:
+            apply_pair_records(pairs, len(pairs), f.force, f.torque)
+        self.contacts = sum(len(p[1]) for p in parsed)
+        self.structure_contacts = sum(len(r) for p in parsed for r in p[0])
+        self.plastic = sum(p[2] for p in parsed)
+        self.body_loads[:] = 0.0
+        for k, pieces in enumerate(self.body_pieces):
+            for s in pieces:
+                self.body_loads[k] += f.structure_load[s]
+
+    def wall_loads(self) -> np.ndarray:
+        """(n_walls, 6) the floes' load on each confining wall: force [N], moment about the origin [N m]."""
+        first = sum(len(p) for p in self.body_pieces)
+        return self.f.structure_load[first:].copy()
+
+    def kinetic_energy(self) -> float:
+        """Translational and rotational kinetic energy of all floes [J]."""
+        f = self.f
+        return float(0.5 * np.sum(f.mass * np.einsum("ij,ij->i", f.v, f.v))
+                     + 0.5 * np.sum(np.einsum("ij,ij->i", f.omega, f.L)))
+
+    def series_entries(self) -> dict:
+        """The floes' columns of a series row (the same on every rank)."""
+        f = self.f
+        return {"floe_contacts": float(self.contacts), "floe_structure_contacts": float(self.structure_contacts),
+                "floe_crushing_contacts": float(self.plastic), "floe_kinetic_energy": self.kinetic_energy(),
+                "floe_mean_velocity": f.v.mean(axis=0) if self.n else np.zeros(3),
+                "floe_wall_force": self.wall_loads()[:, :3]}
+
+
+def floes_from_job(job, hulls, poses, *, comm) -> FloeSystem:
+    """The job's [floes]: the field drawn from its seed, afloat at the Archimedes draft, moving at
+    floes.velocity, with every body's hull as a moving structure and the confining walls; floes that
+    overlap a hull at t = 0 are left out (logged)."""
+    from ..platform.hulls import revolved
+    from ..scenes.floe_field import floe_field
+    from .waves import sea_from_job
+
+    spec, water = job.floes, job.water
+    try:
+        field = floe_field(area=spec.area, size=spec.size, thickness=spec.thickness,
+                           concentration=spec.concentration, seed=spec.seed)
+    except ValueError as exc:
+        raise JobError(f"{job.source}: floes: {exc}") from None
+    c = spec.contact
+    law = FloeLaw(kn=c.normal_stiffness, cn=c.damping, kt=c.tangential_stiffness, mu=c.friction,
+                  pressure=c.compressive_strength)
+    fw = FloeWater(density=water.density, level=water.level, gravity=job.gravity, current=tuple(water.current),
+                   skin=spec.skin_drag_coefficient, form=spec.form_drag_coefficient, damping_ratio=spec.damping_ratio,
+                   sea=sea_from_job(job))
+    thickness = np.asarray(field.thickness, float)
+    base = water.level - thickness * spec.density / water.density
+    floes = Floes(field.polygons, thickness, density=spec.density, base=base,
+                  velocity=(spec.velocity[0], spec.velocity[1], 0.0), law=law, water=fw)
+    body_pieces = []
+    for k, body in enumerate(job.bodies):
+        hull = body.hull
+        if hull.type == "revolved":
+            prof = np.asarray(hull.profile, float)
+            pieces = [revolved(prof[i:i + 2], min(hull.segments, 40)) for i in range(len(prof) - 1)]
+        elif hull.type == "box":
+            pieces = [(hulls[k].vertices, hulls[k].triangles)]
+        else:
+            raise JobError(f"{job.source}: bodies[{k}].hull.type = {hull.type!r}: floes meet convex hulls only: a "
+                           "\"revolved\" hull (each ring to the next is a convex frustum) or a \"box\"; give the "
+                           "body such a hull, or drop [floes]")
+        first = len(floes.structures)
+        for v, t in pieces:
+            floes.add_structure(v, t, centre=np.zeros(3))
+        body_pieces.append(list(range(first, first + len(pieces))))
+        for s in body_pieces[-1]:
+            floes.move_structure(s, x=poses[k, :3], q=poses[k, 3:7], v=poses[k, 7:10], w=poses[k, 10:13])
+    floes = _without_overlaps(floes, field, thickness, base, spec, law, fw, body_pieces, job)
+    if spec.sides == "confined":
+        x0, y0, x1, y1 = spec.area
+        floes.add_wall((0.0, -1.0, 0.0), -y0)   # y <= y0 is wall
+        floes.add_wall((0.0, 1.0, 0.0), y1)     # y >= y1 is wall
+    return FloeSystem(floes, comm, body_pieces)
+
+
+def _without_overlaps(floes, field, thickness, base, spec, law, fw, body_pieces, job) -> Floes:
+    """``floes`` rebuilt without the floes that overlap a body's hull at t = 0 (logged)."""
+    if not floes.structures:
+        return floes
+    pts, counts = floes.world()
+    from ..kernels.floe_motion import world_polyhedra
+
+    hit = np.zeros(len(floes.mass), bool)
+    for st in floes.structures:
+        s_pts = world_polyhedra(st["local"][None], st["counts"][None], st["x"][None], st["q"][None])[0]
+        for i in range(len(floes.mass)):
+            if np.linalg.norm(floes.x[i] - st["x"]) < floes.bound[i] + st["bound"]:
+                if contact_geometry(pts[i], counts[i], s_pts, st["counts"])[0] > 0.0:
+                    hit[i] = True
+    if not hit.any():
+        return floes
+    keep = np.flatnonzero(~hit)
+    box_area = (spec.area[2] - spec.area[0]) * (spec.area[3] - spec.area[1])
+    logging.getLogger("pice").info(
+        "floes: %d of %d floes overlap a hull at t = 0 and are left out (concentration %.3f -> %.3f over the area)",
+        int(hit.sum()), len(hit), floes.area.sum() / box_area, floes.area[keep].sum() / box_area)
+    structures = floes.structures
+    out = Floes([field.polygons[i] for i in keep], thickness[keep], density=spec.density, base=base[keep],
+                velocity=(spec.velocity[0], spec.velocity[1], 0.0), law=law, water=fw)
+    out.structures = structures
+    out.structure_load = np.zeros((len(structures), 6))
+    return out
+
+
+def floe_time_step(job, system: FloeSystem | None) -> StepLimit:
+    """The step of a scene without level ice: the floes' contact law sets it. The stability limit is
+    that of the lightest contact (two of the smallest floes; one against a structure); "auto" takes
+    the smaller of run.dt_safety of it and floes.step_fraction of that contact's duration m_eff / c_n
+    (the dashpot's time; docs/broken_ice.md: restitution 1.6 % low at 0.02). A scene of bodies alone
+    has no contact law: it needs run.dt."""
+    from .timestep import choose_step
+
+    run = job.run
+    if system is None or system.n == 0:
+        if run.dt == "auto":
+            raise JobError(f"{job.source}: run.dt = \"auto\": a scene without ice has no contact law to set the step; "
+                           "give run.dt [s] (the bodies' motions are slow: 0.01 s is typical)")
+        return StepLimit(stable=math.inf, chosen=float(run.dt), safety=0.0, governed_by="given (no ice)")
+    law, m = system.f.law, float(system.f.mass.min())
+    pair = contact_step_limit(law, 0.5 * m)
+    structure = contact_step_limit(law, m)
+    stable = min(pair, structure)
+    limit = choose_step(requested=run.dt, safety=run.dt_safety, stable=stable,
+                        governed_by=f"floe contact, k_n {law.kn:.3g} N/m, c_n {law.cn:.3g} N s/m, m_eff {0.5 * m:.4g} kg",
+                        allow_unstable=run.allow_unstable_dt, source=job.source)
+    if run.dt == "auto":
+        accurate = job.floes.step_fraction * 0.5 * m / law.cn if law.cn > 0 else math.inf
+        if accurate < limit.chosen:
+            return StepLimit(stable=stable, chosen=accurate, safety=accurate / stable,
+                             governed_by=f"floes.step_fraction {job.floes.step_fraction:g} of the contact time "
+                                         f"m_eff / c_n = {0.5 * m / law.cn:.4g} s")
+    return limit
