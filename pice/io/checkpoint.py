@@ -93,6 +93,7 @@ def write_checkpoint(sim, path) -> pathlib.Path:
     parts = comm.gather(part)
     mine = (c.broken, c.contacts, c.contact_energy, c.wall_energy, list(c.events))
     counters = comm.gather(mine)
+    floes = sim.floes.state() if sim.floes is not None else None  # collective
     path = pathlib.Path(path)
 
     def unwritable(exc):
@@ -101,18 +102,18 @@ def write_checkpoint(sim, path) -> pathlib.Path:
                                    "choose a writable path with run.checkpoint or free some disk space")
         return None
 
-    on_root(comm, lambda: _write(sim, path, parts, counters), translate=unwritable)
+    on_root(comm, lambda: _write(sim, path, parts, counters, floes), translate=unwritable)
     return path
 
 
-def _write(sim, path: pathlib.Path, parts: list, counters: list) -> None:
+def _write(sim, path: pathlib.Path, parts: list, counters: list, floes: dict | None) -> None:
     gid = np.concatenate([q["gid"] for q in parts])
     order = np.argsort(gid, kind="stable")
     events = [(*e, r) for r, cnt in enumerate(counters) for e in cnt[4]]
     tmp = path.with_name(path.name + ".tmp")
     path.parent.mkdir(parents=True, exist_ok=True)
     try:
-        _write_file(sim, tmp, gid, order, parts, counters, events)
+        _write_file(sim, tmp, gid, order, parts, counters, events, floes)
     except BaseException:
         tmp.unlink(missing_ok=True)  # a full disk leaves no half-written .tmp behind
         raise
@@ -127,7 +128,7 @@ def _write(sim, path: pathlib.Path, parts: list, counters: list) -> None:
         return  # best effort: some file systems cannot fsync a folder; the rename itself stands
 
 
-def _write_file(sim, tmp: pathlib.Path, gid, order, parts, counters, events) -> None:
+def _write_file(sim, tmp: pathlib.Path, gid, order, parts, counters, events, floes=None) -> None:
     """The checkpoint's content into ``tmp``, flushed and fsync'd."""
     with h5py.File(tmp, "w") as f:
         a = f.attrs
@@ -163,6 +164,8 @@ def _write_file(sim, tmp: pathlib.Path, gid, order, parts, counters, events) -> 
         if sim.platform is not None:  # rank 0's bodies and lines
             for name, value in sim.platform.state().items():
                 f[f"platform/{name}"] = np.asarray(value)
+        for name, value in (floes or {}).items():  # every floe: state and contact histories
+            f[f"floes/{name}"] = np.asarray(value)
         f.flush()
     fd = os.open(tmp, os.O_RDONLY)
     try:
@@ -226,7 +229,8 @@ def read_checkpoint(path) -> dict:
                 counters={n: f["counters"][n][()] for n in COUNTERS},
                 events={n: f["events"][n][()] for n in EVENT_FIELDS},
                 wall_total=f["walls/total"][()] if "walls/total" in f else None,
-                platform=_platform_state(f))
+                platform=_platform_state(f),
+                floes={k: v[()] for k, v in f["floes"].items()} if "floes" in f else None)
     except CheckpointError:
         raise
     except (OSError, KeyError) as exc:

@@ -109,6 +109,8 @@ class RunOutput:
                     radius=p.radius[:n].copy(), kind=p.kind[:n].copy(), crush_depth=crush_depth(p),
                     bonds=p.intact_bonds())
         extras = self.sim.platform_snapshot(first=index == 0)  # rank 0's bodies and lines (None elsewhere)
+        if self.sim.floes is not None and self.comm.rank == 0:  # every rank holds all floes: rank 0 writes them
+            extras = {**(extras or {}), **self.sim.floes.snapshot_arrays(first=index == 0)}
         if self.mode == "mpio":  # collective: each rank writes its part at its gid-sorted place
             self.file.write_snapshot_arrays(index, time=self.sim.c.time, step=self.sim.c.step, arrays=part,
                                             extras=extras)

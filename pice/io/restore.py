@@ -61,6 +61,11 @@ def restore(sim, data) -> None:
         sim.body_total = sim.platform.ice.copy()
     if sim.hulls:
         sim.broadcast_poses()
+    if sim.floes is not None:
+        state = comm.bcast(data.get("floes") if comm.rank == 0 else None)
+        if state is None:
+            raise CheckpointError(f"{where}: holds no floes, but {job.source} has [floes]")
+        sim.floes.set_state(state, where)
 
 
 def _refuse_mismatch(sim, a, where, gid) -> None:

@@ -7,6 +7,7 @@
                     bonds of snapshot 0 that are broken), and the intact bonds as line cells
     walls.vtu       the job's [[walls]] as triangles (planes as a square patch around their point
                     sized to the ice extent), cell data ``wall`` = index of the [[walls]] entry
+    floes_NNNNN.vtu  every floe as a prism at its pose (triangles), cell data ``floe``
     bodies_NNNNN.vtu  every hull at its pose (triangles), cell data ``body``
     moorings_NNNNN.vtu  the mooring lines as polylines, cell data ``line``
     x.pvd           the collection: every block of every snapshot with its time
@@ -39,6 +40,8 @@ def ice_block(run: Run, key: str):
     g = run.snapshot(key)
     gid = g["gid"][()]
     n = len(gid)
+    if n == 0:  # a scene without level ice
+        return None
     cells = [meshio.CellBlock("vertex", np.arange(n, dtype=np.int64).reshape(-1, 1)),
              meshio.CellBlock("line", bond_point_indices(gid, g["bonds"][()]))]
     point_data = {"radius": g["radius"][()], "velocity": g["v"][()], "angular_velocity": g["w"][()],
@@ -81,6 +84,37 @@ def bodies_block(run: Run, key: str):
     return meshio.Mesh(np.vstack(pts), [("triangle", np.vstack(tris))], cell_data={"body": [np.concatenate(body)]})
 
 
+def floes_block(run: Run, key: str):
+    """Every floe as a closed prism at its pose of this snapshot (triangles: top, bottom, sides), cell
+    data ``floe`` = its index and point data ``velocity`` [m/s]."""
+    import meshio
+
+    from ..kernels.geometry import rotation_matrix
+
+    g, first = run.snapshot(key), run.snapshot(0)
+    if "floe_pose" not in g or "floe_polygon" not in first:
+        return None
+    poly, start, h = first["floe_polygon"][()], first["floe_polygon_start"][()], first["floe_thickness"][()]
+    pose, vel = g["floe_pose"][()], g["floe_velocity"][()]
+    pts, tris, floe, speed, off = [], [], [], [], 0
+    for i in range(len(pose)):
+        p2 = poly[start[i]:start[i + 1]]
+        k = len(p2)
+        local = np.vstack([np.column_stack([p2, np.full(k, z)]) for z in (-0.5 * h[i], 0.5 * h[i])])
+        pts.append(local @ rotation_matrix(pose[i, 3:7]).T + pose[i, :3])
+        fan = [(0, j + 1, j) for j in range(1, k - 1)] + [(k, k + j, k + j + 1) for j in range(1, k - 1)]
+        side = [t for j in range(k) for t in ((j, (j + 1) % k, k + (j + 1) % k), (j, k + (j + 1) % k, k + j))]
+        t = np.asarray(fan + side, np.int64)
+        tris.append(t + off)
+        floe.append(np.full(len(t), i, np.int32))
+        speed.append(np.repeat(vel[i:i + 1], 2 * k, axis=0))
+        off += 2 * k
+    if not pts:
+        return None
+    return meshio.Mesh(np.vstack(pts), [("triangle", np.vstack(tris))], point_data={"velocity": np.vstack(speed)},
+                       cell_data={"floe": [np.concatenate(floe)]})
+
+
 def moorings_block(run: Run, key: str):
     """The mooring lines as polylines (one line cell per element), cell data ``line`` = line index."""
     import meshio
@@ -95,7 +129,7 @@ def moorings_block(run: Run, key: str):
 
 
 # name -> builder(run, snapshot key); written as <name>_NNNNN.vtu for every snapshot
-SNAPSHOT_BLOCKS = {"ice": ice_block, "bodies": bodies_block, "moorings": moorings_block}
+SNAPSHOT_BLOCKS = {"ice": ice_block, "floes": floes_block, "bodies": bodies_block, "moorings": moorings_block}
 # name -> builder(run); written once as <name>.vtu and listed at every time of the .pvd
 STATIC_BLOCKS = {"walls": walls_block}
 

@@ -59,3 +59,30 @@ def sea_kinematics(amp, omega, k, direction, phase, depth, g, rho, points, t):
             acc[i, 2] -= aw2 * s * ct
             pres[i] += rho * g * amp[j] * kk * ct
     return vel, acc, pres
+
+
+@njit(**JIT)
+def sea_point(amp, omega, k, direction, phase, depth, g, rho, x, y, z, t):
+    """Everything the sea gives at one point (x, y, z) [m] (z up from the still level, clipped to
+    [-depth, 0] for the kinematics) at time t [s], without allocating: (eta [m], u_x, u_y, u_z
+    [m/s], a_x, a_y, a_z [m/s^2], dynamic pressure [Pa]), eta taken at (x, y). The same sums as
+    ``sea_elevation`` and ``sea_kinematics``, for kernels that visit points one by one."""
+    zc = min(z, 0.0)
+    if math.isfinite(depth) and zc < -depth:
+        zc = -depth
+    eta = u0 = u1 = u2 = a0 = a1 = a2 = p = 0.0
+    for j in range(amp.shape[0]):
+        c, s, kk = depth_factors(k[j], zc, depth)
+        theta = k[j] * (x * direction[j, 0] + y * direction[j, 1]) - omega[j] * t + phase[j]
+        ct, st = math.cos(theta), math.sin(theta)
+        aw, aw2 = amp[j] * omega[j], amp[j] * omega[j] * omega[j]
+        uh, ah = aw * c * ct, aw2 * c * st
+        eta += amp[j] * ct
+        u0 += uh * direction[j, 0]
+        u1 += uh * direction[j, 1]
+        u2 += aw * s * st
+        a0 += ah * direction[j, 0]
+        a1 += ah * direction[j, 1]
+        a2 -= aw2 * s * ct
+        p += rho * g * amp[j] * kk * ct
+    return eta, u0, u1, u2, a0, a1, a2, p

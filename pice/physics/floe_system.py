@@ -125,6 +125,46 @@ class FloeSystem:
             for s in pieces:
                 self.body_loads[k] += f.structure_load[s]
 
+    # -- state for output and restarts ----------------------------------------------------------
+    STATE = ("x", "v", "q", "L", "force", "torque", "structure_load")
+    HISTORY = ("cgid", "stamp", "hist")
+
+    def state(self) -> dict:
+        """Everything a restart needs (collective: the contact histories come from their owners)."""
+        f = self.f
+        out = {name: getattr(f, name).copy() for name in self.STATE}
+        for name in self.HISTORY:
+            a = getattr(f, name)
+            rows, _ = self.comm.allgather_doubles(a[self.lo:self.hi].astype(np.float64).ravel())
+            out[name] = rows.reshape(a.shape).astype(a.dtype)
+        out["step_count"] = np.array(f.step_count)
+        out["body_loads"] = self.body_loads.copy()
+        return out
+
+    def set_state(self, state: dict, where: str) -> None:
+        """The floes as ``state()`` wrote them (every rank); refuses a field of another size."""
+        f = self.f
+        if len(state["x"]) != self.n:
+            raise JobError(f"{where}: holds {len(state['x'])} floes, the job's field has {self.n}; it was written "
+                           "for another [floes] field")
+        for name in self.STATE + self.HISTORY:
+            getattr(f, name)[...] = state[name]
+        f.step_count = int(state["step_count"])
+        self.body_loads[...] = state["body_loads"]
+
+    def snapshot_arrays(self, first: bool) -> dict:
+        """floe_pose (n, 7): x [m], q; floe_velocity (n, 3) [m/s]; the first snapshot also holds the
+        floes' shapes: floe_polygon (m, 2) [m] every floe's polygon in its frame, floe_polygon_start
+        (n + 1,) where each begins, floe_thickness (n,) [m]."""
+        f = self.f
+        out = {"floe_pose": np.hstack([f.x, f.q]), "floe_velocity": f.v.copy()}
+        if first:
+            sizes = [len(p) for p in f.polygons]
+            out["floe_polygon"] = np.vstack(f.polygons) if sizes else np.zeros((0, 2))
+            out["floe_polygon_start"] = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+            out["floe_thickness"] = f.thickness.copy()
+        return out
+
     def wall_loads(self) -> np.ndarray:
         """(n_walls, 6) the floes' load on each confining wall: force [N], moment about the origin [N m]."""
         first = sum(len(p) for p in self.body_pieces)

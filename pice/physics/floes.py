@@ -99,7 +99,9 @@ class Floes:
         self.mass, self.inertia = np.zeros(n), np.zeros((n, 3))
         self.bound = np.zeros(n)
         self.body = []
+        self.polygons = []  # each floe's polygon (k, 2) [m] in its principal axes (its top and bottom faces)
         thickness = np.asarray(thickness, float)
+        self.thickness = thickness.copy()
         base = -thickness * density / 1025.0 if base is None else np.asarray(base, float)
         for k, poly in enumerate(polygons):
             poly = np.asarray(poly, float)
@@ -111,6 +113,7 @@ class Floes:
             c, s = math.cos(angle), math.sin(angle)
             local = (poly - centre) @ np.array([[c, -s], [s, c]])  # into the principal axes
             self.body.append(prism(local, -0.5 * thickness[k], 0.5 * thickness[k]))
+            self.polygons.append(local)
             self.bound[k] = math.hypot(np.linalg.norm(local, axis=1).max(), 0.5 * thickness[k])
         self.body_pts = np.array([b[0] for b in self.body])
         self.body_counts = np.array([b[1] for b in self.body])

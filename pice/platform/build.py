@@ -5,6 +5,9 @@ with the hulls); only rank 0 builds the rigid bodies and the mooring lines and s
 whose mass is "balance" gets the mass that floats it at its position with its lines attached: the
 hull's buoyancy there (platform.hull_buoyancy) plus the lines' vertical pull at their initial
 layout, both known before the body is built. Also the set-up checks of the bodies against the ice.
+With [waves], the platform floats in the job's sea (physics.waves.sea_from_job): each hull gets
+panels for the wave pressure no longer than a tenth of the peak wavelength (WAVE_PANELS_PER_LENGTH;
+platform.hull_waves), and the DEM lines feel the waves' particle velocity and acceleration.
 """
 
 from __future__ import annotations
@@ -17,9 +20,11 @@ import numpy as np
 from ..errors import JobError
 from ..kernels.geometry import rotation_matrix
 from ..physics.contact import contact_law, structure_crushing_pressure
+from ..physics.waves import sea_from_job
 from .catenary import LayoutError, Segment
 from .hull_buoyancy import BRACE_RECORD, submerged
 from .hull_contact import Hull, build_triangle_grid, hull_forces
+from .hull_waves import panel_mesh
 from .hulls import box, revolved, semi_submersible, semi_submersible_braces
 from .layout import RHO_STEEL, spread_mooring
 from .mooring_lines import LineSegment, build_lines
@@ -28,6 +33,8 @@ from .quasi_static import QuasiStaticLines
 from .rigid_body import RigidBody, heading_quaternion
 
 log = logging.getLogger("pice")
+
+WAVE_PANELS_PER_LENGTH = 10  # wave-pressure panels per peak wavelength, at least (hull_waves.panel_mesh)
 
 
 # -- hulls (every rank) ------------------------------------------------------------------------
@@ -215,6 +222,11 @@ def build_platform(job, hulls: list[Hull]) -> Platform:
     """Rank 0's bodies and mooring lines at t = 0 (lines settled when their entry asks for it); a
     "balance" mass is resolved first, from the lines at their initial layout, and each body built once."""
     w, g = job.water, job.gravity
+    sea = sea_from_job(job)
+    panel = None
+    if sea is not None and len(sea.amplitude):
+        peak = int(np.argmax(sea.amplitude))
+        panel = 2.0 * np.pi / float(sea.k[peak]) / WAVE_PANELS_PER_LENGTH  # [m]
     poses = initial_poses(job)
     groups = [_mooring_group(job, k, poses) for k in range(len(job.moorings))]
     pull = lines_pull(groups, len(job.bodies))
@@ -225,10 +237,14 @@ def build_platform(job, hulls: list[Hull]) -> Platform:
                          np.asarray(spec.inertia, float), hull.vertices, hull.triangles, braces=braces,
                          added_mass=np.asarray(spec.added_mass, float), damping=np.asarray(spec.damping, float),
                          current_drag=np.asarray(spec.current_drag, float),
-                         prescribed=np.asarray(spec.velocity, float) if spec.motion == "prescribed" else None)
+                         prescribed=np.asarray(spec.velocity, float) if spec.motion == "prescribed" else None,
+                         panels=panel_mesh(hull.vertices, hull.triangles, panel) if panel is not None else None)
+        if panel is not None:
+            log.info("bodies[%d] (%s): %d wave-pressure panels of at most %.3g m", k, spec.name,
+                     len(body.panels[1]), panel)
         body.x = poses[k, :3].copy()
         body.q = poses[k, 3:7].copy()
         bodies.append(body)
-    platform = Platform(bodies, rho_w=w.density, g=g, level=w.level, current=w.current, groups=groups)
+    platform = Platform(bodies, rho_w=w.density, g=g, level=w.level, current=w.current, groups=groups, sea=sea)
     platform.loads()  # gravity, buoyancy and the lines' pull at t = 0: the first half kick's loads
     return platform

@@ -92,6 +92,41 @@ def transform(vertices_body, q_matrix, position):
 
 
 @njit(**JIT)
+def brace_axis(p0, p1):
+    """(axis p1 - p0 (3,) [m], its length [m], cos of its inclination to the water plane, the unit
+    downward direction of its cross-sections (3,): perpendicular to the axis, in the vertical plane
+    through it) of a brace from p0 to p1."""
+    axis = p1 - p0
+    length = math.sqrt(axis[0] ** 2 + axis[1] ** 2 + axis[2] ** 2)
+    cos_t = math.sqrt(axis[0] ** 2 + axis[1] ** 2) / length
+    a = axis / length
+    down = np.array([a[2] * a[0], a[2] * a[1], a[2] * a[2] - 1.0])  # -(z - (z.a) a)
+    dn = math.sqrt(down[0] ** 2 + down[1] ** 2 + down[2] ** 2)
+    if dn > 0.0:
+        down /= dn
+    return axis, length, cos_t, down
+
+
+@njit(**JIT)
+def slice_section(h, cos_t, R):
+    """(submerged area [m^2], drop [m]) of a brace's cross-section of radius R [m] whose axis point
+    lies h [m] above the water plane, the brace inclined at theta to it (cos_t = cos theta): the
+    circular segment below the chord d = h / cos theta above the centre (Eq. 14), and its centroid's
+    distance below the centre along the section's downward direction (``brace_submerged``)."""
+    if cos_t < 1e-12:  # vertical brace: the slice is wholly wet or dry
+        return (math.pi * R * R if h <= 0.0 else 0.0), 0.0
+    d = h / cos_t
+    if d <= -R:
+        return math.pi * R * R, 0.0
+    if d >= R:
+        return 0.0, 0.0
+    area = R * R * math.acos(d / R) - d * math.sqrt(R * R - d * d)
+    # centroid of the circular segment below the chord, measured from the centre
+    drop = 2.0 * (R * R - d * d) ** 1.5 / (3.0 * area) if area > 0.0 else 0.0
+    return area, drop
+
+
+@njit(**JIT)
 def brace_submerged(p0, p1, radius, level, nseg):
     """(submerged volume [m^3], centroid (3,) [m]) of a cylindrical brace from p0 to p1 (Eqs. 13-14).
 
@@ -103,34 +138,14 @@ def brace_submerged(p0, p1, radius, level, nseg):
     shifted by the segment centroid 2 (R^2 - d^2)^(3/2) / (3 A) along the section's downward
     direction (perpendicular to the axis, in the vertical plane through it).
     """
-    axis = p1 - p0
-    length = math.sqrt(axis[0] ** 2 + axis[1] ** 2 + axis[2] ** 2)
-    cos_t = math.sqrt(axis[0] ** 2 + axis[1] ** 2) / length
-    a = axis / length
-    down = np.array([a[2] * a[0], a[2] * a[1], a[2] * a[2] - 1.0])  # -(z - (z.a) a)
-    dn = math.sqrt(down[0] ** 2 + down[1] ** 2 + down[2] ** 2)
-    if dn > 0.0:
-        down /= dn
+    axis, length, cos_t, down = brace_axis(p0, p1)
     dl = length / nseg
     vol = 0.0
     mom = np.zeros(3)
     R = radius
     for k in range(nseg):
         c = p0 + (k + 0.5) / nseg * axis
-        h = c[2] - level
-        if cos_t < 1e-12:  # vertical brace: the slice is wholly wet or dry
-            area = math.pi * R * R if h <= 0.0 else 0.0
-            drop = 0.0
-        else:
-            d = h / cos_t
-            if d <= -R:
-                area, drop = math.pi * R * R, 0.0
-            elif d >= R:
-                area, drop = 0.0, 0.0
-            else:
-                area = R * R * math.acos(d / R) - d * math.sqrt(R * R - d * d)
-                # centroid of the circular segment below the chord, measured from the centre
-                drop = 2.0 * (R * R - d * d) ** 1.5 / (3.0 * area) if area > 0.0 else 0.0
+        area, drop = slice_section(c[2] - level, cos_t, R)
         dv = area * dl
         vol += dv
         for q in range(3):

@@ -6,6 +6,10 @@ Each node stands for a piece of line of length dl (half pieces at the ends). Per
 - weight in water (wet weight per length x dl) and Morison loads (Eq. 8 of Zhu & Ji 2022, for a
   cylinder piece instead of a sphere): normal drag 1/2 rho C_dn D dl |v_n| v_n, tangential drag
   1/2 rho C_dt pi D dl |v_t| v_t, and added mass C_a rho pi D^2/4 dl on the normal acceleration;
+  in waves the drag acts on the current plus the undisturbed particle velocity at the node,
+  relative to the node, and the fluid acceleration a adds the inertia load rho V (a + C_a a_n)
+  (Froude-Krylov on the whole acceleration, added mass on its part normal to the line; V = pi
+  D^2/4 dl), a node being wet below the wave surface over it (docs/waves.md);
 - seabed contact below z = seabed: a penalty spring and dashpot, Coulomb friction (regularised).
 Node kinds: 0 free, 1 fixed (anchor), 2 prescribed (fairlead, moved with its body).
 
@@ -16,7 +20,9 @@ drag_normal C_dn, drag_tangential C_dt, added_mass C_a, damping_ratio (of the bo
 field name as ``props[s]["ea"]`` (numba compiles it to the loads of a column index; plain Python,
 NUMBA_DISABLE_JIT=1, runs it too, which ``props[s].ea`` would not). Scalars as named tuples
 (platform.mooring_lines): water LineWater(density [kg/m^3], level [m]); seabed Seabed(z [m],
-stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]).
+stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]); the sea as
+platform.sea.SeaComponents (no components: still water, which costs one test per node) with z up
+from the water's level, and the ``time`` [s] of the forces.
 
 Every function here is a numba kernel: a pure function of arrays and scalars (no MPI, no I/O),
 owned by platform.mooring_lines.MooringLines. A sub-step (``verlet_substep``) is written once; the
@@ -29,16 +35,18 @@ import numpy as np
 from numba import njit
 
 from ..kernels import JIT
+from .sea import wave_at
 
 FREE, FIXED, PRESCRIBED = 0, 1, 2
 
 
 @njit(**JIT)
-def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass):
+def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, time, force, tension, added_mass):
     """Forces on every node [N]; bond tensions [N] stored at the bond's upper node; added mass [kg].
 
     water: LineWater (density [kg/m^3], level [m]); current: (3,) [m/s]; seabed: Seabed (z [m],
-    stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]).
+    stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]); sea:
+    SeaComponents at ``time`` [s] (module docstring).
     """
     n = x.shape[0]
     rho = water.density
@@ -57,6 +65,8 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
     am = np.zeros(n)
     diam = np.zeros(n)
     length = np.zeros(n)  # line length a node stands for [m]
+    waves = sea.amplitude.shape[0] > 0
+    volume = np.zeros(n if waves else 0)  # displaced volume a node stands for [m^3] (waves only)
     # axial bonds
     for i in range(n):
         p = prev[i]
@@ -93,6 +103,8 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
             am[node] += el["added_mass"] * 0.25 * math.pi * D * D * half
             diam[node] = max(diam[node], D)
             length[node] += half
+            if waves:
+                volume[node] += 0.25 * math.pi * D * D * half
     # weight, Morison loads and seabed per node
     z_bed, k_bed, zeta_bed, mu_bed, v_slip = (seabed.z, seabed.stiffness, seabed.damping_ratio, seabed.friction,
                                               seabed.slip_velocity)
@@ -100,10 +112,23 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
         force[i, 2] -= weight[i]
         tn = math.sqrt(tangent[i, 0] ** 2 + tangent[i, 1] ** 2 + tangent[i, 2] ** 2)
         t0, t1, t2 = (tangent[i, 0] / tn, tangent[i, 1] / tn, tangent[i, 2] / tn) if tn > 0 else (0.0, 0.0, 1.0)
-        if x[i, 2] <= water.level:
-            r0 = current[0] - v[i, 0]
-            r1 = current[1] - v[i, 1]
-            r2 = current[2] - v[i, 2]
+        wet = x[i, 2] <= water.level
+        f0, f1, f2 = current[0], current[1], current[2]
+        if waves:
+            w = wave_at(sea, x[i, 0], x[i, 1], x[i, 2] - water.level, time)
+            wet = x[i, 2] <= water.level + w[0]
+            if wet:
+                # Froude-Krylov rho V a and added mass rho C_a V a_n (normal part); the drag's flow
+                at = w[4] * t0 + w[5] * t1 + w[6] * t2
+                fk, ca = rho * volume[i], rho * am[i]
+                force[i, 0] += fk * w[4] + ca * (w[4] - at * t0)
+                force[i, 1] += fk * w[5] + ca * (w[5] - at * t1)
+                force[i, 2] += fk * w[6] + ca * (w[6] - at * t2)
+                f0, f1, f2 = f0 + w[1], f1 + w[2], f2 + w[3]
+        if wet:
+            r0 = f0 - v[i, 0]
+            r1 = f1 - v[i, 1]
+            r2 = f2 - v[i, 2]
             rt = r0 * t0 + r1 * t1 + r2 * t2
             n0, n1, n2 = r0 - rt * t0, r1 - rt * t1, r2 - rt * t2
             vn = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
@@ -163,11 +188,12 @@ def node_tangents(x, prev, out):
 
 
 @njit(**JIT)
-def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
+def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, time, force, tension, added_mass,
                    tangent, fairleads, x_start, x_end, v_fairlead, a, dt):
-    """One velocity-Verlet sub-step of dt [s]: half kick, drift of the free nodes, the fairlead nodes
-    placed at (1 - a) x_start + a x_end (n_lines, 3) [m] with velocity v_fairlead [m/s], forces and
-    tangents at the new positions, half kick. Empty ``fairleads`` leave every end where it is."""
+    """One velocity-Verlet sub-step of dt [s] ending at ``time`` [s]: half kick, drift of the free
+    nodes, the fairlead nodes placed at (1 - a) x_start + a x_end (n_lines, 3) [m] with velocity
+    v_fairlead [m/s], forces (in ``sea`` at ``time``) and tangents at the new positions, half kick. Empty
+    ``fairleads`` leave every end where it is."""
     n = x.shape[0]
     accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
     for i in range(n):
@@ -179,34 +205,37 @@ def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, f
         for d in range(3):
             x[f, d] = (1.0 - a) * x_start[j, d] + a * x_end[j, d]
             v[f, d] = v_fairlead[j, d]
-    line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass)
+    line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, time, force, tension, added_mass)
     node_tangents(x, prev, tangent)
     accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
 
 
 @njit(**JIT)
-def advance_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
-                  tangent, fairleads, x_start, x_end, v_fairlead, dt, nsub):
-    """nsub velocity-Verlet sub-steps of dt [s]; the fairlead nodes move linearly from x_start to
-    x_end (n_lines, 3) [m] with velocity v_fairlead [m/s]; anchors stay fixed."""
+def advance_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, t_start, force, tension,
+                  added_mass, tangent, fairleads, x_start, x_end, v_fairlead, dt, nsub):
+    """nsub velocity-Verlet sub-steps of dt [s] from time t_start [s] (sub-step k ends at t_start +
+    (k + 1) dt, the time of its forces in ``sea``); the fairlead nodes move linearly from x_start
+    to x_end (n_lines, 3) [m] with velocity v_fairlead [m/s]; anchors stay fixed."""
     for k in range(nsub):
-        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
-                       tangent, fairleads, x_start, x_end, v_fairlead, (k + 1.0) / nsub, dt)
+        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, t_start + (k + 1) * dt,
+                       force, tension, added_mass, tangent, fairleads, x_start, x_end, v_fairlead, (k + 1.0) / nsub,
+                       dt)
 
 
 @njit(**JIT)
-def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
+def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, force, tension, added_mass,
                 tangent, dt, max_steps, tol):
     """Static equilibrium by kinetic damping (dynamic relaxation): step the lines with fixed ends and
     zero every velocity whenever the kinetic energy has just peaked. Stops when the largest net force
-    on a free node is below ``tol`` [N] or after max_steps. Returns the steps taken."""
+    on a free node is below ``tol`` [N] or after max_steps. Returns the steps taken. ``sea``: still
+    water (a relaxation has no time)."""
     n = x.shape[0]
     no_fairleads = np.zeros(0, np.int64)
     no_points = np.zeros((0, 3))
     ke_prev = 0.0
     for step in range(max_steps):
-        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass,
-                       tangent, no_fairleads, no_points, no_points, no_points, 1.0, dt)
+        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, 0.0, force, tension,
+                       added_mass, tangent, no_fairleads, no_points, no_points, no_points, 1.0, dt)
         ke = 0.0
         worst = 0.0
         for i in range(n):

@@ -6,7 +6,8 @@ into elements of at most ``element_length``; the nodes start on the quasi-static
 Morison drag, seabed) and the sub-step are the numba kernels of platform.mooring_line_kernels;
 their parameters are named records built once here (``build_lines``) and read by field name in
 numba: a structured array of LINE_ELEMENT_RECORD (one record per element) and the LineWater and
-Seabed named tuples.
+Seabed named tuples. In waves, ``sea`` (platform.sea.SeaComponents, set by the platform from the
+job's [waves]) moves the water the Morison loads see; still water by default.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .catenary import Segment, profile, solve_line
+from .sea import SeaComponents, still_water
 from .mooring_line_kernels import (FIXED, FREE, PRESCRIBED, advance_lines, line_energies, line_forces, node_tangents,
                                    relax_lines)
 
@@ -77,6 +79,7 @@ class MooringLines:
     tangent: np.ndarray = field(default=None)
     time: float = 0.0
     settled: bool = True     # False when the last relax stopped at its cap before reaching its tol
+    sea: SeaComponents = field(default_factory=still_water)  # the waves the nodes sit in (z from water.level)
 
     def __post_init__(self):
         n = len(self.x)
@@ -88,7 +91,7 @@ class MooringLines:
 
     def _forces(self):
         line_forces(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
-                    self.current, self.seabed, self.force, self.tension, self.added_mass)
+                    self.current, self.seabed, self.sea, self.time, self.force, self.tension, self.added_mass)
         node_tangents(self.x, self.prev, self.tangent)
 
     def stable_step(self) -> float:
@@ -103,17 +106,20 @@ class MooringLines:
         zeta = float(max(self.props["damping_ratio"].max(), self.seabed.damping_ratio))
         return 2.0 / math.sqrt(omega2) * (math.sqrt(1 + zeta * zeta) - zeta)
 
-    def advance(self, dt: float, nsub: int, fairlead_x=None, fairlead_v=None) -> None:
+    def advance(self, dt: float, nsub: int, fairlead_x=None, fairlead_v=None, *, t_start: float | None = None) -> None:
         """Advance by nsub sub-steps of dt [s]; fairlead_x/v (n_lines, 3) are the prescribed
-        fairlead positions [m] and velocities [m/s] at the END of the interval (linear in between)."""
+        fairlead positions [m] and velocities [m/s] at the END of the interval (linear in between).
+        t_start [s]: the time the interval starts at, for the sea (default: the lines' own ``time``;
+        the platform gives its own clock); ``time`` is t_start + nsub dt after."""
         fl = self.fairleads
         x0 = self.x[fl].copy()
         x1 = x0 if fairlead_x is None else np.asarray(fairlead_x, float).reshape(-1, 3)
         v1 = self.v[fl].copy() if fairlead_v is None else np.asarray(fairlead_v, float).reshape(-1, 3)
+        t0 = self.time if t_start is None else float(t_start)
         advance_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
-                      self.current, self.seabed, self.force, self.tension, self.added_mass, self.tangent,
-                      fl, x0, x1, v1, dt, nsub)
-        self.time += dt * nsub
+                      self.current, self.seabed, self.sea, t0, self.force, self.tension, self.added_mass,
+                      self.tangent, fl, x0, x1, v1, dt, nsub)
+        self.time = t0 + dt * nsub
 
     def relax(self, *, tol: float = 1.0, max_time: float = 600.0, max_node_steps: float | None = None) -> int:
         """Bring the lines to static equilibrium with their ends held (kinetic damping); the nodes
@@ -128,8 +134,8 @@ class MooringLines:
         budget = MAX_RELAX_NODE_STEPS if max_node_steps is None else max_node_steps
         cap = max(1, min(int(min(max_time / dt, 1e18)), int(budget / len(self.x))))
         steps = relax_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
-                            self.current, self.seabed, self.force, self.tension, self.added_mass, self.tangent,
-                            dt, cap, tol)
+                            self.current, self.seabed, still_water(), self.force, self.tension, self.added_mass,
+                            self.tangent, dt, cap, tol)
         self.current[:] = current
         self.v[:] = 0.0
         self._forces()

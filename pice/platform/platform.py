@@ -5,6 +5,11 @@ Per ice step of dt: ``kick`` (half step with the loads of the previous evaluatio
 by the hulls), then, once the ice loads of the new pose have been reduced to rank 0, ``loads`` and
 ``kick`` again. Fairleads are points fixed in their body's frame; a line's pull on its fairlead
 acts on the body at that point.
+
+Time: ``time`` [s] is the platform's clock, advanced by ``drift``; the lines' sub-steps run from the
+start of the step (sub-step k of n ending at t + k dt/n) and the bodies' loads are taken at the new
+time, so a sea (``sea``, platform.sea.SeaComponents; None: still water) is evaluated where and when
+each force is (docs/waves.md).
 """
 
 from __future__ import annotations
@@ -16,6 +21,7 @@ import numpy as np
 
 from .attachment_kernels import add_line_pull, fairlead_kinematics
 from .rigid_body import RigidBody
+from .sea import sea_components
 
 
 @dataclass
@@ -58,13 +64,21 @@ class Platform:
     """Bodies, mooring lines and the water they sit in (rank 0 only)."""
 
     def __init__(self, bodies: list[RigidBody], moorings=None, attachments: list[Attachment] | None = None, *,
-                 rho_w: float, g: float, level: float, current=(0.0, 0.0), groups: list[MooringGroup] | None = None):
+                 rho_w: float, g: float, level: float, current=(0.0, 0.0), groups: list[MooringGroup] | None = None,
+                 sea=None):
+        """sea: a physics.waves.Sea (or SeaComponents) the bodies and DEM lines float in; None or
+        a sea of no components: still water, computed exactly as without waves."""
         self.bodies = bodies
         self.groups = list(groups or [])
         if moorings is not None:
             self.groups.insert(0, MooringGroup(moorings, list(attachments or [])))
         self.rho_w, self.g, self.level = rho_w, g, level
         self.current = np.asarray(current, float)
+        components = sea_components(sea)
+        self.sea = components if components.amplitude.shape[0] > 0 else None
+        for grp in self.groups:
+            if self.sea is not None and hasattr(grp.lines, "sea"):  # DEM lines (quasi-static ones have no drag)
+                grp.lines.sea = self.sea
         steps = [0.5 * grp.lines.stable_step() for grp in self.groups]
         self.line_dt = min(steps) if steps else math.inf
         self.time = 0.0
@@ -108,11 +122,12 @@ class Platform:
         """Move the bodies by dt and sub-step the lines with their fairleads following the hulls."""
         for b in self.bodies:
             b.drift(dt)
+        start = self.time
         self.time += dt
         for k, grp in enumerate(self.groups):
             x, v = self.fairlead_positions(k)
             nsub = max(1, int(math.ceil(dt / self.line_dt - 1e-12)))
-            grp.lines.advance(dt / nsub, nsub, x, v)
+            grp.lines.advance(dt / nsub, nsub, x, v, t_start=start)
 
     def loads(self, ice: np.ndarray | None = None) -> None:
         """Total force and moment on every body: ice (n_bodies, 6, reduced from all ranks), water,
@@ -122,7 +137,8 @@ class Platform:
         for k, b in enumerate(self.bodies):
             if not b.free:  # a prescribed body moves as told: its loads drive nothing (the ice load
                 continue    # and the lines' pull are reported from self.ice and the lines)
-            f, m = b.hydro_loads(rho_w=self.rho_w, g=self.g, level=self.level, current=self.current)
+            f, m = b.hydro_loads(rho_w=self.rho_w, g=self.g, level=self.level, current=self.current, sea=self.sea,
+                                 t=self.time)
             b.force = f + self.ice[k, :3]
             b.torque = m + self.ice[k, 3:]
         n = len(self.bodies)

@@ -58,12 +58,13 @@ class QuasiStaticLines:
     def stable_step(self) -> float:
         return math.inf
 
-    def advance(self, dt: float, nsub: int, fairlead_x=None, fairlead_v=None) -> None:
-        """Move the fairleads to ``fairlead_x`` (n_lines, 3) [m] and re-solve the lines that moved."""
+    def advance(self, dt: float, nsub: int, fairlead_x=None, fairlead_v=None, *, t_start: float | None = None) -> None:
+        """Move the fairleads to ``fairlead_x`` (n_lines, 3) [m] and re-solve the lines that moved;
+        ``time`` becomes t_start (default: the present ``time``) + nsub dt [s]. No drag, so no waves."""
         if fairlead_x is not None:
             self.fairlead_x[:] = np.asarray(fairlead_x, float).reshape(-1, 3)
         self._update()
-        self.time += dt * nsub
+        self.time = (self.time if t_start is None else float(t_start)) + dt * nsub
 
     def energies(self) -> tuple[float, float]:
         """(kinetic [J], elastic [J]): no line dynamics, so no kinetic energy; the elastic energy of

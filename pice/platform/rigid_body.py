@@ -8,6 +8,14 @@ volume of the hull mesh and its braces (platform.hull_buoyancy, Eqs. 12-14) acti
 centre of buoyancy, and current drag 1/2 rho C_d A |u_c - v| (u_c - v) on the horizontal motion.
 Motion is "free" or "prescribed" (a velocity history, e.g. a ship pushed at constant speed).
 
+In waves (a platform.sea.SeaComponents given to ``hydro_loads`` with the time; docs/waves.md):
+buoyancy and Froude-Krylov load together are the pressure of the undisturbed sea on the hull below
+the wave surface, panel by panel, and on the braces (platform.hull_waves); Eq. 11's second term,
+the diffraction load of a body small against the waves, is the added mass times the undisturbed
+particle acceleration at the centre of buoyancy, R (A_diag (R^T a)); the current drag acts on the
+current plus the particle velocity there, relative to the body (Eq. 12, as Morison's drag). No
+radiation damping beyond ``damping``, no diffraction beyond A a, no second-order drift.
+
 Time stepping is velocity Verlet: `kick` (half step of momentum and angular momentum), `drift`
 (translation and the exact free rotation below), forces at the new pose, `kick`.
 
@@ -30,7 +38,8 @@ from numba import njit
 
 from ..kernels import JIT
 from ..kernels.geometry import quat_mul, rotation_matrix
-from . import hull_buoyancy
+from . import hull_buoyancy, hull_waves
+from .sea import wave_at
 
 
 # -- rotation kernels (numba) ------------------------------------------------------------------
@@ -145,6 +154,9 @@ class RigidBody:
     # must not overlap the mesh
     braces: np.ndarray = field(default_factory=lambda: np.zeros(0, hull_buoyancy.BRACE_RECORD))
     brace_slices: int = hull_buoyancy.BRACE_SLICES  # segments per brace along its axis (Eq. 13)
+    # (vertices, triangles) of the hull's surface for the wave pressure (hull_waves.panel_mesh; body
+    # frame [m]); None: the hull mesh itself. Unused in still water.
+    panels: tuple | None = None
     x: np.ndarray = field(default_factory=lambda: np.zeros(3))    # CG position [m]
     v: np.ndarray = field(default_factory=lambda: np.zeros(3))    # CG velocity [m/s]
     q: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0, 0.0]))
@@ -205,9 +217,30 @@ class RigidBody:
         return hull_buoyancy.buoyancy(self.vertices, self.triangles, self.braces, int(self.brace_slices),
                                       position=self.x, attitude=self.q, rho_w=rho_w, g=g, level=level)
 
-    def hydro_loads(self, *, rho_w: float, g: float, level: float, current=(0.0, 0.0)):
-        """Gravity, buoyancy, quadratic damping and current drag: (force [N], moment [N m])."""
-        f_b, m_b, _ = self.hydrostatics(rho_w=rho_w, g=g, level=level)
+    @property
+    def wave_panels(self) -> tuple[np.ndarray, np.ndarray]:
+        """(vertices, triangles) the wave pressure is integrated over (``panels``, else the hull)."""
+        return self.panels if self.panels is not None else (self.vertices, self.triangles)
+
+    def wave_flow(self, sea, t: float, *, level: float) -> tuple[np.ndarray, np.ndarray]:
+        """(particle velocity (3,) [m/s], acceleration (3,) [m/s^2]) of the undisturbed ``sea``
+        (SeaComponents) at time t [s] at the centre of buoyancy of the hull cut at the surface over
+        the CG, level + eta; zeros when the hull is dry."""
+        eta = wave_at(sea, self.x[0], self.x[1], 0.0, t)[0]
+        vol, cob = self.submerged(level + eta)
+        if vol <= 0.0:
+            return np.zeros(3), np.zeros(3)
+        w = wave_at(sea, cob[0], cob[1], cob[2] - level, t)
+        return np.array(w[1:4]), np.array(w[4:7])
+
+    def hydro_loads(self, *, rho_w: float, g: float, level: float, current=(0.0, 0.0), sea=None, t: float = 0.0):
+        """Gravity, buoyancy, quadratic damping and current drag: (force [N], moment [N m]); with a
+        ``sea`` (SeaComponents) at time t [s], the wave loads of the module docstring. sea None:
+        still water, exactly as without waves."""
+        if sea is None:
+            f_b, m_b, _ = self.hydrostatics(rho_w=rho_w, g=g, level=level)
+        else:
+            f_b, m_b = hull_waves.wave_loads(self, sea, t, rho_w=rho_w, g=g, level=level)
         f = f_b + np.array([0.0, 0.0, -self.mass * g])
         m = m_b
         R = rotation_matrix(self.q)
@@ -216,6 +249,10 @@ class RigidBody:
         f = f - R @ (self.damping[:3] * np.abs(vb) * vb)
         m = m - R @ (self.damping[3:] * np.abs(wb) * wb)
         rel = np.asarray(current, float) - self.v[:2]
+        if sea is not None:
+            u, a = self.wave_flow(sea, t, level=level)
+            rel = rel + u[:2]
+            f = f + R @ (self.added_mass[:3] * (R.T @ a))  # Eq. 11: A a, the small body's diffraction
         f[:2] += self.current_drag * np.abs(rel) * rel
         return f, m
 
