@@ -11,7 +11,8 @@ The method, chosen because it reaches 90 % (random sequential placement of floes
 3. Shrink each cell about its centroid to its floe's size. A floe's size is its equivalent
    diameter, sqrt(4 A / pi) [m]; the floes are disjoint because each lies inside its own cell.
 4. The number of cells is adjusted until the floes cover ``concentration`` of the area within one
-   percentage point (the number of floes moves in whole floes: one floe of 35 m is 0.4 % of a
+   percentage point, or of half a mean floe's area in an area too small for that (the number of
+   floes moves in whole floes: one floe of 35 m is 0.4 % of a
    600 m x 400 m area, 0.04 % of seed 003's 1.2 km x 2 km); a floe is never scaled above ``max_fill`` of its cell (a gap between neighbours), which
    sets the highest concentration a field can reach (about 0.95).
 
@@ -162,7 +163,7 @@ def floe_field(*, area, size=(30.0, 40.0), thickness=(2.5, 2.7), concentration: 
         miss = concentration - field.concentration
         if best is None or abs(miss) < abs(concentration - best.concentration):
             best = field
-        if abs(miss) <= CONCENTRATION_TOLERANCE:
+        if abs(miss) <= max(CONCENTRATION_TOLERANCE, 0.5 * mean_area / box_area):  # half a floe in a small area
             return field
         step = int(round(miss * box_area / mean_area)) or (1 if miss > 0 else -1)
         count = max(1, count + step)

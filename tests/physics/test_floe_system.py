@@ -1,0 +1,126 @@
+"""The floes of a job (pice/physics/floe_system.py): issue 14's broken ice as the Simulation steps it.
+
+References:
+- a force balance: a floe held against a confining wall by a cross current comes to rest with the
+  wall's load equal to the water's drag on it, rho_w (C_w A + 1/2 C_d d b) u^2 (seed 003 Eq. 12 form
+  drag on the draft d over the width b across the flow, plus skin drag on the bottom area A), within
+  0.5 % (the floe settles on the overdamped contact over ~10 s; 60 s leave a residual speed below
+  1e-6 m/s, and the heave settles to the Archimedes draft, which sets d);
+- an identity: the owner-block record path (FloeSystem on one rank) and the one-rank Floes step
+  give the same forces bit for bit, the base of the rank contract (tests/parallel/test_floes_two_ranks.py);
+- a conservation law: the load on a structure is the opposite of the structure forces on the floes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pice.parallel.comm import SerialComm
+from pice.physics.floe_system import FloeSystem
+from pice.physics.floes import Floes, FloeLaw, FloeWater
+from pice.platform.hulls import revolved
+from pice.scenes.floe_field import floe_field
+
+RHO_W, RHO_I, H, SIDE = 1025.0, 920.0, 2.6, 30.0
+
+
+def _square(cx, cy, side=SIDE):
+    h = 0.5 * side
+    return np.array([[cx - h, cy - h], [cx + h, cy - h], [cx + h, cy + h], [cx - h, cy + h]])
+
+
+def test_a_floe_pressed_on_a_wall_by_the_current_carries_its_drag():
+    u = 0.4
+    water = FloeWater(density=RHO_W, current=(0.0, u), skin=0.0055, form=1.0, damping_ratio=0.3)
+    draft = H * RHO_I / RHO_W
+    floes = Floes([_square(0.0, 50.0 - 0.5 * SIDE - 0.01)], [H], density=RHO_I, base=[-draft], water=water,
+                  law=FloeLaw())
+    floes.add_wall((0.0, 1.0, 0.0), 50.0)  # y >= 50 m is wall
+    system = FloeSystem(floes, SerialComm(), [])
+    dt = 0.01
+    system.compute_forces(np.zeros((0, 13)), 0.0, dt)
+    for k in range(6000):
+        system.kick(0.5 * dt)
+        system.drift(dt)
+        system.compute_forces(np.zeros((0, 13)), (k + 1) * dt, dt)
+        system.kick(0.5 * dt)
+    assert np.abs(floes.v).max() < 1e-6
+    d = -floes.x[0, 2] + 0.5 * H  # the draft where it floats
+    drag = RHO_W * (0.0055 * SIDE * SIDE + 0.5 * 1.0 * d * SIDE) * u * u
+    wall = system.wall_loads()[0]
+    assert abs(wall[1] - drag) <= 0.005 * drag, (wall[1], drag)
+    assert abs(d - draft) < 1e-3 * draft
+
+
+def _field_with_cone():
+    field = floe_field(area=(-140.0, -50.0, -38.0, 50.0), size=(20.0, 30.0), concentration=0.85, seed=3)
+    thickness = np.asarray(field.thickness)
+
+    def make():
+        floes = Floes(field.polygons, thickness, density=RHO_I, base=-thickness * RHO_I / RHO_W,
+                      water=FloeWater(density=RHO_W, current=(0.4, 0.0)), law=FloeLaw())
+        v, t = revolved([[-12.5, 31.0], [0.0, 35.0]], 24)
+        floes.add_structure(v, t, centre=np.zeros(3))
+        floes.move_structure(0, x=[0.0, 0.0, 0.0], q=[1.0, 0.0, 0.0, 0.0], v=[-2.0, 0.0, 0.0], w=[0.0, 0.0, 0.0])
+        floes.add_wall((0.0, -1.0, 0.0), 50.0)
+        floes.add_wall((0.0, 1.0, 0.0), 50.0)
+        return floes
+    return make
+
+
+def _cone_at(floes, k, dt):
+    """The cone ploughing into the field at 2 m/s: its pose at step k (set by hand, as the body's)."""
+    floes.move_structure(0, x=[-2.0 * k * dt, 0.0, 0.0], q=[1.0, 0.0, 0.0, 0.0], v=[-2.0, 0.0, 0.0], w=[0.0, 0.0, 0.0])
+
+
+def test_the_record_path_matches_the_one_rank_step_bit_for_bit():
+    make = _field_with_cone()
+    alone, blocks = make(), make()
+    system = FloeSystem(blocks, SerialComm(), [])
+    dt, no_bodies = 0.005, np.zeros((0, 13))
+    alone.compute_forces(dt)
+    system.compute_forces(no_bodies, 0.0, dt)
+    for k in range(1200):
+        _cone_at(alone, k + 1, dt)
+        _cone_at(blocks, k + 1, dt)
+        alone.step(dt)  # Floes.step: kick, drift, forces of the whole field at once, kick
+        system.kick(0.5 * dt)
+        system.drift(dt)
+        system.compute_forces(no_bodies, alone.time, dt)
+        system.kick(0.5 * dt)
+    assert system.contacts > 0 and system.structure_contacts > 0, "the floes must meet each other and the cone"
+    for name in ("x", "v", "q", "L", "force", "torque", "structure_load"):
+        assert np.array_equal(getattr(alone, name), getattr(blocks, name)), name
+
+
+def test_the_structures_take_what_the_floes_lose():
+    """Pair forces cancel: the floes' total force less the water's is minus the loads on the cone and
+    the walls, to round-off of the largest contact force."""
+    make = _field_with_cone()
+    floes = make()
+    system = FloeSystem(floes, SerialComm(), [[0]])
+    dt = 0.005
+    pose = np.zeros((1, 13))
+    pose[0, 3], pose[0, 7] = 1.0, -2.0
+    system.compute_forces(pose, 0.0, dt)
+    checked = 0
+    for k in range(1000):
+        pose[0, 0] = -2.0 * (k + 1) * dt
+        system.kick(0.5 * dt)
+        system.drift(dt)
+        system.compute_forces(pose, (k + 1) * dt, dt)
+        if k % 100 == 99 and system.structure_contacts:  # at the state the forces were computed for
+            total = floes.force.sum(axis=0)
+            saved = floes.force.copy(), floes.torque.copy()
+            floes.force[:], floes.torque[:] = 0.0, 0.0
+            pts, counts = floes.world()
+            floes.water_loads(0, system.n, pts, counts, floes.omega)
+            water = floes.force.sum(axis=0)
+            floes.force[:], floes.torque[:] = saved
+            structures = system.body_loads[0, :3] + system.wall_loads()[:, :3].sum(axis=0)
+            scale = np.abs(structures).max()
+            assert scale > 1e4
+            assert np.allclose(total - water, -structures, rtol=0, atol=1e-9 * scale), (total - water, structures)
+            checked += 1
+        system.kick(0.5 * dt)
+    assert checked >= 3
