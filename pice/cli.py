@@ -125,7 +125,7 @@ def _cmd_plot(args) -> int:
     from .postproc.plots import default_out_dir, plot_run
 
     out = pathlib.Path(args.out) if args.out else default_out_dir(args.run)
-    written = plot_run(args.run, out)  # a missing or unreadable run file stops here
+    written = plot_run(args.run, out, skip=args.skip)  # a missing or unreadable run file stops here
     if not args.no_render:
         with open_run(args.run) as run:
             has_snapshots = bool(run.snapshots)
@@ -305,6 +305,8 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--color-by", choices=("velocity", "damage"), default="velocity",
                     help="colour of the rendered spheres (default velocity)")
     pl.add_argument("--no-render", action="store_true", help="figures only, no pyvista render")
+    pl.add_argument("--skip", type=float, default=0.0, metavar="SECONDS",
+                    help="leave out the first SECONDS of the mooring load's spectrum and ice events (seed 003: 1500)")
     pl.set_defaults(func=_cmd_plot)
     st = sub.add_parser("study", help="run variants of a job (--vary KEY=v1,v2,...) and compare their cost with "
                                       "their peak loads, offsets and line tensions")

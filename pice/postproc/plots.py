@@ -6,6 +6,9 @@
   sum when there are several walls;
 * ``platform.png``: per body, the ice load (with its range between series rows), the offset and
   rotation from t = 0, and every fairlead tension (MN);
+* ``mooring_load.png`` (with ``events.csv``): the lines' total horizontal pull against time, its power
+  spectrum and the peak load of each ice interaction event, as seed 003's Figs. 10-12
+  (postproc/mooring.py);
 * ``energies.png``: the change of each energy since t = 0 (kJ);
 * ``broken_bonds.png``: cumulative broken bonds against time, by failure mode (from the event log).
 
@@ -52,7 +55,7 @@ def _title(run) -> str:
     return f"{pathlib.Path(str(src)).stem or run.path.stem}  ({run.path.name})"
 
 
-def ice_loads(run, out: pathlib.Path):
+def ice_loads(run, out: pathlib.Path, **_):
     t, f = run.series("time"), run.series("wall_force")
     if t is None or f is None or f.shape[1] == 0:
         return None
@@ -76,7 +79,7 @@ def ice_loads(run, out: pathlib.Path):
     return _save(fig, out / "ice_loads.png")
 
 
-def energies(run, out: pathlib.Path):
+def energies(run, out: pathlib.Path, **_):
     names = [k for k in run.series_names() if k.endswith("_energy")]
     t = run.series("time")
     if not names or t is None:
@@ -95,7 +98,7 @@ def energies(run, out: pathlib.Path):
     return _save(fig, out / "energies.png")
 
 
-def broken_bonds(run, out: pathlib.Path):
+def broken_bonds(run, out: pathlib.Path, **_):
     t, broken = run.series("time"), run.series("broken_bonds")
     if t is None or broken is None:
         return None
@@ -121,7 +124,7 @@ def broken_bonds(run, out: pathlib.Path):
     return _save(fig, out / "broken_bonds.png")
 
 
-def platform(run, out: pathlib.Path):
+def platform(run, out: pathlib.Path, **_):
     """Per body: ice load (with the peaks between rows), offset from the start, rotation, and the
     fairlead tensions (MN)."""
     t, x = run.series("time"), run.series("body_position")
@@ -164,8 +167,14 @@ def platform(run, out: pathlib.Path):
     return _save(fig, out / "platform.png")
 
 
-# each figure: builder(run, out_dir) -> path or None when the run lacks its series
-FIGURES = (ice_loads, platform, energies, broken_bonds)
+def _mooring(run, out: pathlib.Path, **opts):
+    from .mooring import mooring_figure
+
+    return mooring_figure(run, out, **opts)
+
+
+# each figure: builder(run, out_dir, skip=...) -> path or None when the run lacks its series
+FIGURES = (ice_loads, platform, _mooring, energies, broken_bonds)
 
 
 def default_out_dir(run_path) -> pathlib.Path:
@@ -173,8 +182,10 @@ def default_out_dir(run_path) -> pathlib.Path:
     return p.with_name(p.stem + "_plots")
 
 
-def plot_run(run_path: str | os.PathLike, out_dir: str | os.PathLike | None = None) -> list[pathlib.Path]:
-    """Write the PNG figures of a run into ``out_dir`` (default ``<run>_plots/``); return their paths."""
+def plot_run(run_path: str | os.PathLike, out_dir: str | os.PathLike | None = None, *,
+             skip: float = 0.0) -> list[pathlib.Path]:
+    """Write the PNG figures of a run into ``out_dir`` (default ``<run>_plots/``); return their paths.
+    ``skip`` [s]: the start left out of the mooring load's spectrum and events (postproc/mooring.py)."""
     out = pathlib.Path(out_dir) if out_dir is not None else default_out_dir(run_path)
     written = []
     with open_run(run_path) as run:
@@ -184,7 +195,7 @@ def plot_run(run_path: str | os.PathLike, out_dir: str | os.PathLike | None = No
             raise OutputError(f"{out}: cannot create the output folder ({exc.strerror or exc})") from None
         for figure in FIGURES:
             try:
-                path = figure(run, out)
+                path = figure(run, out, skip=skip)
             except OSError as exc:
                 raise OutputError(f"{out}: cannot write {figure.__name__} ({exc.strerror or exc})") from None
             if path is not None:

@@ -1,5 +1,6 @@
 """Off-screen pyvista render of one snapshot of a run: spheres coloured by speed or bond damage,
-the intact bonds as thin lines and the walls as translucent grey surfaces. Works headless.
+the intact bonds as thin lines, the walls as translucent grey surfaces, the floes coloured by speed
+and the hulls in grey. Works headless.
 
 Headless: the VTK wheels (9.4 and later) pick the render window at run time, trying X, then EGL,
 then OSMesa. Without a display ``render_snapshot`` asks for EGL directly when libEGL is installed
@@ -35,9 +36,21 @@ def _prefer_egl() -> None:
 def _scene(run, key, color_by: str):
     import pyvista as pv
 
+    from ..io.vtk_export import bodies_block, floes_block
+
     g = run.snapshot(key)
     x = g["x"][()]
     gid = g["gid"][()]
+    solids = []  # floes coloured by speed, hulls grey (meshio meshes of the VTK export)
+    for build, colour in ((floes_block, None), (bodies_block, "lightgray")):
+        mesh = build(run, key)
+        if mesh is not None:
+            solid = pv.from_meshio(mesh)
+            if colour is None:
+                solid["speed [m/s]"] = np.linalg.norm(solid["velocity"], axis=1)
+            solids.append((solid, colour))
+    if not len(x):  # no level ice
+        return None, "speed [m/s]", "viridis", None, None, float(g.attrs["time"]), solids
     pts = pv.PolyData(x)
     pts["radius"] = g["radius"][()]
     if color_by == "damage":
@@ -56,19 +69,27 @@ def _scene(run, key, color_by: str):
     if len(tris):
         walls = pv.PolyData(tris.reshape(-1, 3), faces=np.hstack([np.full((len(tris), 1), 3),
                                                                   np.arange(3 * len(tris)).reshape(-1, 3)]).ravel())
-    return spheres, label, cmap, bonds, walls, float(g.attrs["time"])
+    return spheres, label, cmap, bonds, walls, float(g.attrs["time"]), solids
 
 
 def _draw(scene, out_png: pathlib.Path, window_size, title: str) -> None:
     import pyvista as pv
 
-    spheres, label, cmap, bonds, walls, t = scene
+    spheres, label, cmap, bonds, walls, t, solids = scene
     pl = pv.Plotter(off_screen=True, window_size=list(window_size))
     try:
         pl.set_background("white")
         clim = [0.0, 1.0] if label.startswith("bond damage") else None
-        pl.add_mesh(spheres, scalars=label, cmap=cmap, clim=clim, smooth_shading=True,
-                    scalar_bar_args=dict(title=label, color="black", vertical=True, position_x=0.88, position_y=0.2))
+        bar = dict(title=label, color="black", vertical=True, position_x=0.88, position_y=0.2)
+        if spheres is not None:
+            pl.add_mesh(spheres, scalars=label, cmap=cmap, clim=clim, smooth_shading=True, scalar_bar_args=bar)
+        for solid, colour in solids:
+            if colour is None:  # floes
+                pl.add_mesh(solid, scalars="speed [m/s]", cmap="viridis", scalar_bar_args=bar if spheres is None
+                            else dict(title="floe speed [m/s]", color="black", vertical=True, position_x=0.05,
+                                      position_y=0.2))
+            else:
+                pl.add_mesh(solid, color=colour, opacity=0.8)
         if bonds is not None:
             pl.add_mesh(bonds, color="dimgray", line_width=1.0, opacity=0.5)
         if walls is not None:
