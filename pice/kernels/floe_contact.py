@@ -70,9 +70,9 @@ def floe_contacts(n, lo, hi, gid, x, v, omega, mass, bound, pts, counts, kn, cn,
 def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, mu, pressure, dt, step, cgid,
           stamp, hist, records, nrec, nplastic, worst):
     """The contact of floes i and j, if they overlap (``floe_contacts``); returns the updated counts."""
-    d = x[j] - x[i]
+    d0, d1, d2 = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2]  # scalars: no temporaries
     reach = bound[i] + bound[j]
-    if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach:
+    if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach:
         return nrec, nplastic, worst
     if (separated_by_planes(planes[i], counts[i], pts[j], counts[j])
             or separated_by_planes(planes[j], counts[j], pts[i], counts[i])):
@@ -152,9 +152,9 @@ def structure_contacts(lo, hi, x, v, omega, mass, bound, pts, counts, s_pts, s_c
     nrec = 0
     nplastic = 0
     for i in range(lo, hi):
-        d = x[i] - s_centre
+        d0, d1, d2 = x[i, 0] - s_centre[0], x[i, 1] - s_centre[1], x[i, 2] - s_centre[2]
         reach = bound[i] + s_bound
-        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach:
+        if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach:
             continue
         vol, c, nrm, area, depth = contact_geometry(pts[i], counts[i], s_pts, s_counts)
         if vol <= 0.0:

@@ -88,18 +88,18 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
         total += vol
         fb = rho_w * g * vol
         force[i, 2] += fb
-        arm = cob - x[i]
-        torque[i, 0] += arm[1] * fb
-        torque[i, 1] -= arm[0] * fb
+        torque[i, 0] += (cob[1] - x[i, 1]) * fb
+        torque[i, 1] -= (cob[0] - x[i, 0]) * fb
         # heave, roll and pitch damping
         k_heave = rho_w * g * area[i]
         force[i, 2] -= damping_ratio * 2.0 * math.sqrt(k_heave * mass[i]) * v[i, 2]
-        wb = rot[i].T @ omega[i]  # about the principal axes: roll and pitch are the first two
-        tb = np.zeros(3)
-        for a in range(2):
+        R = rot[i]
+        for a in range(2):  # about the principal axes: roll and pitch are the first two (scalars: no BLAS)
+            wb = R[0, a] * omega[i, 0] + R[1, a] * omega[i, 1] + R[2, a] * omega[i, 2]
             k_tilt = k_heave * inertia[i, a] / mass[i]
-            tb[a] = -damping_ratio * 2.0 * math.sqrt(k_tilt * inertia[i, a]) * wb[a]
-        torque[i] += rot[i] @ tb
+            tb = -damping_ratio * 2.0 * math.sqrt(k_tilt * inertia[i, a]) * wb
+            for e in range(3):
+                torque[i, e] += R[e, a] * tb
         flow0, flow1 = current[0], current[1]
         if sea_amp.shape[0] > 0:
             fw, mw = wave_pressure_load(sp, sc, sides, x[i], sea_amp, sea_omega, sea_k, sea_direction, sea_phase,

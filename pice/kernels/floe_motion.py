@@ -13,7 +13,7 @@ from .geometry import rotation_matrix
 @njit(**JIT)
 def world_polyhedra(body_pts, counts, x, q):
     """(n, F, V, 3) face points in space [m] of the n floes' body-frame polyhedra at poses x, q."""
-    out = np.zeros_like(body_pts)
+    out = np.empty_like(body_pts)  # only the first counts[k, f] points of a face are ever read
     for k in range(body_pts.shape[0]):
         R = rotation_matrix(q[k])
         for f in range(counts.shape[1]):

@@ -1,8 +1,9 @@
 """Convex polyhedra: the overlap of two, and the contact it defines (numba; issues 14 and 15's rigid
 floes and rubble blocks, both convex: prisms and boxes).
 
-A polyhedron is given by its faces: ``pts`` (MAX_FACES, MAX_FACE_VERTS, 3) [m] with ``counts``
-(MAX_FACES,) vertices each (0 for an unused face), every face convex and counter-clockwise seen
+A polyhedron is given by its faces: ``pts`` (F, V, 3) [m] with ``counts`` (F,) vertices each (0 for
+an unused face; ``faces_array`` pads to MAX_FACES x MAX_FACE_VERTS, and a clip returns arrays one face
+and one point wider than it was given), every face convex and counter-clockwise seen
 from outside. The overlap A n B is A clipped by every face plane of B (Sutherland-Hodgman on each
 face, and a cap face on the cutting plane from the new points). Each face of the overlap remembers
 whether it lies on the surface of A (0) or of B (1).
@@ -36,17 +37,18 @@ EPS = 1e-12          # [m] a point within this of a plane lies on it
 def _clip_face(src, n_src, normal, offset, out):
     """Clip the convex polygon src[:n_src] to normal . x <= offset; write it to out; return its size."""
     m = 0
+    n0, n1, n2 = normal[0], normal[1], normal[2]
     for i in range(n_src):
-        a = src[i]
-        b = src[(i + 1) % n_src]
-        da = normal[0] * a[0] + normal[1] * a[1] + normal[2] * a[2] - offset
-        db = normal[0] * b[0] + normal[1] * b[1] + normal[2] * b[2] - offset
+        j = i + 1 if i + 1 < n_src else 0
+        da = n0 * src[i, 0] + n1 * src[i, 1] + n2 * src[i, 2] - offset
+        db = n0 * src[j, 0] + n1 * src[j, 1] + n2 * src[j, 2] - offset
         if da <= EPS:
-            out[m] = a
+            out[m, 0], out[m, 1], out[m, 2] = src[i, 0], src[i, 1], src[i, 2]
             m += 1
         if (da < -EPS and db > EPS) or (da > EPS and db < -EPS):
             t = da / (da - db)
-            out[m] = a + t * (b - a)
+            for e in range(3):
+                out[m, e] = src[i, e] + t * (src[j, e] - src[i, e])
             m += 1
     return m
 
@@ -60,47 +62,54 @@ def _cap(pts, count, normal, out):
     for i in range(count):
         dup = False
         for j in range(k):
-            d = pts[i] - uniq[j]
-            if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= 1e-18:
+            d0, d1, d2 = pts[i, 0] - uniq[j, 0], pts[i, 1] - uniq[j, 1], pts[i, 2] - uniq[j, 2]
+            if d0 * d0 + d1 * d1 + d2 * d2 <= 1e-18:
                 dup = True
                 break
         if not dup:
-            uniq[k] = pts[i]
+            uniq[k, 0], uniq[k, 1], uniq[k, 2] = pts[i, 0], pts[i, 1], pts[i, 2]
             k += 1
     if k < 3:
         return 0
-    c = np.zeros(3)
+    c0 = c1 = c2 = 0.0
     for i in range(k):
-        c += uniq[i]
-    c /= k
+        c0 += uniq[i, 0]
+        c1 += uniq[i, 1]
+        c2 += uniq[i, 2]
+    c0, c1, c2 = c0 / k, c1 / k, c2 / k
     # a basis (u, v) of the plane with u x v = normal
-    ref = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    u = ref - (ref[0] * normal[0] + ref[1] * normal[1] + ref[2] * normal[2]) * normal
-    u /= math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
-    v = np.array([normal[1] * u[2] - normal[2] * u[1], normal[2] * u[0] - normal[0] * u[2],
-                  normal[0] * u[1] - normal[1] * u[0]])
+    n0, n1, n2 = normal[0], normal[1], normal[2]
+    r0, r1, r2 = (1.0, 0.0, 0.0) if abs(n0) < 0.9 else (0.0, 1.0, 0.0)
+    dot = r0 * n0 + r1 * n1 + r2 * n2
+    u0, u1, u2 = r0 - dot * n0, r1 - dot * n1, r2 - dot * n2
+    norm = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+    u0, u1, u2 = u0 / norm, u1 / norm, u2 / norm
+    v0, v1, v2 = n1 * u2 - n2 * u1, n2 * u0 - n0 * u2, n0 * u1 - n1 * u0
     ang = np.empty(k)
     for i in range(k):
-        d = uniq[i] - c
-        ang[i] = math.atan2(d[0] * v[0] + d[1] * v[1] + d[2] * v[2], d[0] * u[0] + d[1] * u[1] + d[2] * u[2])
+        d0, d1, d2 = uniq[i, 0] - c0, uniq[i, 1] - c1, uniq[i, 2] - c2
+        ang[i] = math.atan2(d0 * v0 + d1 * v1 + d2 * v2, d0 * u0 + d1 * u1 + d2 * u2)
     order = np.argsort(ang)
     for i in range(k):
-        out[i] = uniq[order[i]]
+        out[i, 0], out[i, 1], out[i, 2] = uniq[order[i], 0], uniq[order[i], 1], uniq[order[i], 2]
     return k
 
 
 @njit(**JIT)
 def face_plane(poly, count):
     """(unit outward normal (3,), offset) of a convex face: normal . x = offset on it."""
-    s = np.zeros(3)
-    for i in range(1, count - 1):
-        a = poly[i] - poly[0]
-        b = poly[i + 1] - poly[0]
-        s[0] += a[1] * b[2] - a[2] * b[1]
-        s[1] += a[2] * b[0] - a[0] * b[2]
-        s[2] += a[0] * b[1] - a[1] * b[0]
-    s /= math.sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2])
-    return s, s[0] * poly[0, 0] + s[1] * poly[0, 1] + s[2] * poly[0, 2]
+    s0 = s1 = s2 = 0.0
+    p0, p1, p2 = poly[0, 0], poly[0, 1], poly[0, 2]
+    for i in range(1, count - 1):  # scalars: no temporaries
+        a0, a1, a2 = poly[i, 0] - p0, poly[i, 1] - p1, poly[i, 2] - p2
+        b0, b1, b2 = poly[i + 1, 0] - p0, poly[i + 1, 1] - p1, poly[i + 1, 2] - p2
+        s0 += a1 * b2 - a2 * b1
+        s1 += a2 * b0 - a0 * b2
+        s2 += a0 * b1 - a1 * b0
+    norm = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+    s = np.empty(3)
+    s[0], s[1], s[2] = s0 / norm, s1 / norm, s2 / norm
+    return s, s[0] * p0 + s[1] * p1 + s[2] * p2
 
 
 @njit(**JIT)
@@ -116,10 +125,13 @@ def clip(pts, counts, side, normal, offset, tag):
                 outside = True
     if not outside:
         return pts, counts, side
-    nxt = np.empty_like(pts)  # only the first counts[f] points of a face are ever read
-    ncounts = np.zeros(n_faces, np.int64)
-    nside = np.zeros(n_faces, np.int64)
-    tmp = np.empty((pts.shape[1], 3))
+    # room for one more face (the cap) and one more point per face (a cut adds at most one), and for a
+    # cap through every face: the arrays grow with each cut, so tightly sized inputs are safe
+    width = max(pts.shape[1] + 1, n_faces + 1)
+    nxt = np.empty((n_faces + 1, width, 3))  # only the first counts[f] points of a face are ever read
+    ncounts = np.zeros(n_faces + 1, np.int64)
+    nside = np.zeros(n_faces + 1, np.int64)
+    tmp = np.empty((width, 3))
     cut = np.empty((2 * n_faces, 3))
     nfaces = 0
     ncut = 0
@@ -140,7 +152,7 @@ def clip(pts, counts, side, normal, offset, tag):
     if nfaces == 0:
         return nxt, ncounts, nside
     k = _cap(cut, ncut, normal, tmp)
-    if k >= 3 and nfaces < n_faces:
+    if k >= 3:
         nxt[nfaces, :k] = tmp[:k]
         ncounts[nfaces] = k
         nside[nfaces] = tag
@@ -178,17 +190,23 @@ def volume_centroid(pts, counts):
     if not found:
         return 0.0, np.full(3, np.nan)
     vol = 0.0
-    for f in range(counts.shape[0]):
+    r0, r1, r2 = ref[0], ref[1], ref[2]
+    c0 = c1 = c2 = 0.0
+    for f in range(counts.shape[0]):  # tetrahedra (ref, p0, pi, pi+1), in scalars: no temporaries
+        p = pts[f]
+        a0, a1, a2 = p[0, 0] - r0, p[0, 1] - r1, p[0, 2] - r2
         for i in range(1, counts[f] - 1):
-            a = pts[f, 0] - ref
-            b = pts[f, i] - ref
-            d = pts[f, i + 1] - ref
-            v6 = a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0]) + a[2] * (b[0] * d[1] - b[1] * d[0])
+            b0, b1, b2 = p[i, 0] - r0, p[i, 1] - r1, p[i, 2] - r2
+            d0, d1, d2 = p[i + 1, 0] - r0, p[i + 1, 1] - r1, p[i + 1, 2] - r2
+            v6 = a0 * (b1 * d2 - b2 * d1) - a1 * (b0 * d2 - b2 * d0) + a2 * (b0 * d1 - b1 * d0)
             vol += v6
-            c += v6 * (pts[f, 0] + pts[f, i] + pts[f, i + 1] + ref)
+            c0 += v6 * (a0 + b0 + d0)
+            c1 += v6 * (a1 + b1 + d1)
+            c2 += v6 * (a2 + b2 + d2)
+    c[0], c[1], c[2] = c0 / (4.0 * vol) + r0, c1 / (4.0 * vol) + r1, c2 / (4.0 * vol) + r2
     if vol <= 0.0:
         return 0.0, np.full(3, np.nan)
-    return vol / 6.0, c / (4.0 * vol)
+    return vol / 6.0, c
 
 
 @njit(**JIT)

@@ -115,8 +115,12 @@ class Floes:
             self.body.append(prism(local, -0.5 * thickness[k], 0.5 * thickness[k]))
             self.polygons.append(local)
             self.bound[k] = math.hypot(np.linalg.norm(local, axis=1).max(), 0.5 * thickness[k])
-        self.body_pts = np.array([b[0] for b in self.body])
-        self.body_counts = np.array([b[1] for b in self.body])
+        # as tight as the largest floe (faces_array pads to the polyhedra's maximum): the world polyhedra
+        # are rebuilt every step, and the clips grow their arrays as they need
+        nf = max((int(np.count_nonzero(b[1])) for b in self.body), default=1)
+        nv = max((int(b[1].max()) for b in self.body), default=1)
+        self.body_pts = np.array([b[0][:nf, :nv] for b in self.body]).reshape(n, nf, nv, 3)
+        self.body_counts = np.array([b[1][:nf] for b in self.body], np.int64).reshape(n, nf)
         self.force, self.torque = np.zeros((n, 3)), np.zeros((n, 3))
         self.cgid = np.full((n, MAX_CONTACTS), -1, np.int64)
         self.stamp = np.full((n, MAX_CONTACTS), -10, np.int64)
