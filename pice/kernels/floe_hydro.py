@@ -63,14 +63,17 @@ def wave_pressure_load(sp, sc, side, x, amp, omega, k, direction, phase, depth, 
 
 @njit(**JIT)
 def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level, rho_w, g, current, skin, form,
-               damping_ratio, sea_amp, sea_omega, sea_k, sea_direction, sea_phase, sea_depth, t, force, torque):
+               damping_ratio, sea_amp, sea_omega, sea_k, sea_direction, sea_phase, sea_depth, t, added, force, torque):
     """Add the water's forces [N] and torques about each centre [N m] to the floes lo..hi-1; returns the
     total submerged volume [m^3]. omega (n, 3) [rad/s] and the torques in space; rot (n, 3, 3) each
     floe's attitude (body to space, its principal axes); pts, counts: world polyhedra; area:
     water-plane areas [m^2]; inertia (n, 3) principal moments [kg m^2]; current (2,) [m/s]; skin
     C_w, form C_d [-]; sea_*: the waves' components (physics/waves.Sea; none: still water) at time
     t [s], whose dynamic pressure acts on the wetted faces and whose particle velocity at the
-    floe's centre adds to the current in the drag."""
+    floe's centre adds to the current in the drag. With waves, ``added`` (n, 3) [kg]: each floe's
+    added mass along x, y, z, times the waves' acceleration at its centre of buoyancy (seed 003 Eq. 11's
+    diffraction force on a small body).
+    """
     up = np.array([0.0, 0.0, 1.0])
     total = 0.0
     for i in range(lo, hi):
@@ -108,10 +111,12 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
             torque[i] += mw
             centre = np.empty((1, 3))
             centre[0] = cob
-            uw, _, _ = sea_kinematics(sea_amp, sea_omega, sea_k, sea_direction, sea_phase, sea_depth, g, rho_w,
-                                      centre, t)
+            uw, aw, _ = sea_kinematics(sea_amp, sea_omega, sea_k, sea_direction, sea_phase, sea_depth, g, rho_w,
+                                       centre, t)
             flow0 += uw[0, 0]
             flow1 += uw[0, 1]
+            for e in range(3):  # the diffraction term of seed 003 Eq. 11: added mass times the waves' acceleration
+                force[i, e] += added[i, e] * aw[0, e]
         # drag of the current (and the waves' particle velocity): skin on the bottom, form on the side
         u0, u1 = flow0 - v[i, 0], flow1 - v[i, 1]
         speed = math.sqrt(u0 * u0 + u1 * u1)

@@ -56,7 +56,7 @@ class FloeSystem:
     def kick(self, h: float) -> None:
         """Velocities and angular momenta by h [s] of the current forces."""
         f = self.f
-        f.v += h * f.force / f.mass[:, None]
+        f.v += h * f.force / (f.mass[:, None] + f.added)
         f.L += h * f.torque
 
     def drift(self, dt: float) -> None:
@@ -171,9 +171,9 @@ class FloeSystem:
         return self.f.structure_load[first:].copy()
 
     def kinetic_energy(self) -> float:
-        """Translational and rotational kinetic energy of all floes [J]."""
+        """Translational and rotational kinetic energy of all floes [J], with the water's added mass."""
         f = self.f
-        return float(0.5 * np.sum(f.mass * np.einsum("ij,ij->i", f.v, f.v))
+        return float(0.5 * np.sum((f.mass[:, None] + f.added) * f.v * f.v)
                      + 0.5 * np.sum(np.einsum("ij,ij->i", f.omega, f.L)))
 
     def series_entries(self) -> dict:
@@ -208,7 +208,8 @@ def floes_from_job(job, hulls, poses, *, comm) -> FloeSystem:
     thickness = np.asarray(field.thickness, float)
     base = water.level - thickness * spec.density / water.density
     floes = Floes(field.polygons, thickness, density=spec.density, base=base,
-                  velocity=(spec.velocity[0], spec.velocity[1], 0.0), law=law, water=fw)
+                  velocity=(spec.velocity[0], spec.velocity[1], 0.0), law=law, water=fw,
+                  added_mass=spec.added_mass == "plate")
     body_pieces = []
     for k, body in enumerate(job.bodies):
         hull = body.hull
@@ -258,7 +259,8 @@ def _without_overlaps(floes, field, thickness, base, spec, law, fw, body_pieces,
         int(hit.sum()), len(hit), floes.area.sum() / box_area, floes.area[keep].sum() / box_area)
     structures = floes.structures
     out = Floes([field.polygons[i] for i in keep], thickness[keep], density=spec.density, base=base[keep],
-                velocity=(spec.velocity[0], spec.velocity[1], 0.0), law=law, water=fw)
+                velocity=(spec.velocity[0], spec.velocity[1], 0.0), law=law, water=fw,
+                added_mass=spec.added_mass == "plate")
     out.structures = structures
     out.structure_load = np.zeros((len(structures), 6))
     return out
