@@ -74,7 +74,8 @@ def _cmd_check(args) -> int:
     print(f"  bonds             {d['bonds']:,}")
     print(f"  memory (particles) {mb:,.1f} MiB")
     print(f"  stable time step  {d['dt_stable']:.4g} s ({d['dt_governed_by']})")
-    print(f"  chosen time step  {d['dt']:.4g} s ({d['dt_safety']:.2g} x the limit)")
+    print(f"  chosen time step  {d['dt']:.4g} s " + (f"({d['dt_safety']:.2g} x the limit)" if math.isfinite(d["dt_stable"])
+                                                      else "(as given)"))
     print(f"  steps per sim. s  {d['steps_per_second']:,.0f}")
     if "bond_kn" in d:
         print(f"  bond springs      k_n {d['bond_kn']:.4g} N/m, k_s {d['bond_ks']:.4g} N/m, "

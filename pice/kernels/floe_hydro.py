@@ -1,13 +1,16 @@
 """Water on rigid floes (numba, arrays in and out): gravity, buoyancy of the submerged part of each
-floe's polyhedron, heave/roll/pitch damping, current drag, and the waves' Froude-Krylov pressure
-and particle velocity (issue 14; no added mass or diffraction yet).
+floe's polyhedron, heave/roll/pitch damping, current drag, and the waves' Froude-Krylov, diffraction
+and drag loads (issue 14).
 
-With waves, a floe's buoyancy is that of its part below the surface at its centre, level + eta_c,
-and the dynamic pressure less rho g eta_c acts on its wetted faces. A uniform pressure on the
-wetted faces pushes up by itself times the water-plane area, so the two together are the linear
-hydrostatic and Froude-Krylov loads for small motions, while a floe that rides a wave higher than
-its freeboard keeps floating (cut at the still level, a 2 m wave would sink a 2.6 m floe of 0.27 m
-freeboard in its troughs).
+With waves, a floe's buoyancy is that of its part below the surface at its centre, level + eta_c, so
+that a floe riding a wave higher than its freeboard keeps floating (cut at the still level, a 2 m
+wave would sink a 2.6 m floe of 0.27 m freeboard in its troughs). A floe is small against the waves
+(seed 003's premise for its Eq. 11: under 1/5 of the wavelength; a 40 m floe in a 20 s sea of 52 m
+depth is 1/11): the undisturbed dynamic pressure less rho g eta_c varies linearly across it, and its
+integral over the wetted surface closed by the cut is the volume integral of its gradient, the
+Froude-Krylov force rho V a_c, with a_c the waves' acceleration at the centre of buoyancy. Eq. 11's
+diffraction term adds A a_c with the floe's added mass A. Their moments, and the pitch the wave's
+slope (k a, 0.01 for the seed's sea) would give, are left out.
 
 Per floe of mass m, centre x, velocity v, angular velocity w, water-plane area A_wp [m^2]:
 
@@ -33,35 +36,6 @@ from .waves import sea_elevation, sea_kinematics
 
 
 @njit(**JIT)
-def wave_pressure_load(sp, sc, side, x, amp, omega, k, direction, phase, depth, g, rho_w, t, p0):
-    """(force (3,) [N], moment about x (3,) [N m]) of the undisturbed waves' dynamic pressure less p0
-    [Pa] on the wetted faces (side 0) of a floe's submerged part: -(p - p0) A n at each face's
-    centroid (Froude-Krylov; a floe is small against the waves, seed 003 Eq. 11)."""
-    f = np.zeros(3)
-    m = np.zeros(3)
-    pt = np.empty((1, 3))
-    for face in range(sc.shape[0]):
-        if sc[face] < 3 or side[face] != 0:
-            continue
-        c = np.zeros(3)
-        s = np.zeros(3)
-        for i in range(sc[face]):
-            c += sp[face, i]
-        c /= sc[face]
-        for i in range(1, sc[face] - 1):
-            a = sp[face, i] - sp[face, 0]
-            b = sp[face, i + 1] - sp[face, 0]
-            s += 0.5 * np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
-        pt[0] = c
-        _, _, p = sea_kinematics(amp, omega, k, direction, phase, depth, g, rho_w, pt, t)
-        df = -(p[0] - p0) * s
-        f += df
-        r = c - x
-        m += np.array([r[1] * df[2] - r[2] * df[1], r[2] * df[0] - r[0] * df[2], r[0] * df[1] - r[1] * df[0]])
-    return f, m
-
-
-@njit(**JIT)
 def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level, rho_w, g, current, skin, form,
                damping_ratio, sea_amp, sea_omega, sea_k, sea_direction, sea_phase, sea_depth, t, added, force, torque):
     """Add the water's forces [N] and torques about each centre [N m] to the floes lo..hi-1; returns the
@@ -78,12 +52,12 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
     total = 0.0
     for i in range(lo, hi):
         side = np.zeros(counts.shape[1], np.int64)
-        # with waves the floe floats on the surface where it is: its buoyancy is cut at level + eta there,
-        # and the dynamic pressure less rho g eta acts on its wetted faces (module docstring)
+        # with waves the floe floats on the surface where it is: its buoyancy is cut at level + eta there
+        # (module docstring)
         eta = 0.0
         if sea_amp.shape[0] > 0:
             eta = sea_elevation(sea_amp, sea_omega, sea_k, sea_direction, sea_phase, x[i, 0:1], x[i, 1:2], t)[0]
-        sp, sc, sides = clip(pts[i], counts[i], side, up, level + eta, 1)
+        sp, sc, _ = clip(pts[i], counts[i], side, up, level + eta, 1)
         vol, cob = volume_centroid(sp, sc)
         force[i, 2] -= mass[i] * g
         if vol <= 0.0:
@@ -105,18 +79,14 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
                 torque[i, e] += R[e, a] * tb
         flow0, flow1 = current[0], current[1]
         if sea_amp.shape[0] > 0:
-            fw, mw = wave_pressure_load(sp, sc, sides, x[i], sea_amp, sea_omega, sea_k, sea_direction, sea_phase,
-                                        sea_depth, g, rho_w, t, rho_w * g * eta)
-            force[i] += fw
-            torque[i] += mw
             centre = np.empty((1, 3))
             centre[0] = cob
             uw, aw, _ = sea_kinematics(sea_amp, sea_omega, sea_k, sea_direction, sea_phase, sea_depth, g, rho_w,
                                        centre, t)
             flow0 += uw[0, 0]
             flow1 += uw[0, 1]
-            for e in range(3):  # the diffraction term of seed 003 Eq. 11: added mass times the waves' acceleration
-                force[i, e] += added[i, e] * aw[0, e]
+            for e in range(3):  # Froude-Krylov rho V a and the diffraction term A a (seed 003 Eq. 11, small body)
+                force[i, e] += (rho_w * vol + added[i, e]) * aw[0, e]
         # drag of the current (and the waves' particle velocity): skin on the bottom, form on the side
         u0, u1 = flow0 - v[i, 0], flow1 - v[i, 1]
         speed = math.sqrt(u0 * u0 + u1 * u1)

@@ -17,9 +17,11 @@ under a crest) the kinematics are those at z = 0 (constant extrapolation), and b
 those at the seabed.
 
 The JONSWAP spectrum is DNV-RP-C205's (section 3.5.5) with its peak enhancement gamma and widths
-0.07 / 0.09, normalised numerically so that its variance is Hs^2 / 16 exactly. A realisation takes
-``components`` frequencies evenly spaced over [0.5, 4] w_p (midpoints), amplitudes sqrt(2 S dw) and
-phases uniform in [0, 2 pi) from ``seed``: the record repeats after 2 pi / dw.
+0.07 / 0.09, normalised numerically so that its variance is Hs^2 / 16 exactly. A realisation splits
+[0.5, 4] w_p into ``components`` equal bins of width dw and draws one frequency uniformly in each,
+with amplitude sqrt(2 S dw) and a phase uniform in [0, 2 pi), all from ``seed``: with the
+frequencies off a common grid the record does not repeat (at the bins' midpoints it would after
+2 pi / dw, 1,370 s for seed 003's sea with 200 components, shorter than its 4,000 s runs).
 """
 
 from __future__ import annotations
@@ -116,10 +118,11 @@ class Sea:
         """An irregular long-crested sea of the JONSWAP spectrum (module docstring)."""
         wp = 2.0 * math.pi / tp
         edges = np.linspace(0.5 * wp, 4.0 * wp, components + 1)
-        w = 0.5 * (edges[1:] + edges[:-1])
         dw = edges[1] - edges[0]
+        rng = np.random.default_rng(seed)
+        phase = rng.uniform(0.0, 2.0 * math.pi, components)
+        w = edges[:-1] + dw * rng.uniform(0.0, 1.0, components)  # one frequency drawn in each bin
         amp = np.sqrt(2.0 * jonswap(w, hs, tp, gamma) * dw)
-        phase = np.random.default_rng(seed).uniform(0.0, 2.0 * math.pi, components)
         return cls._make(amp, w, direction_deg, phase, depth, g, density)
 
     @classmethod
