@@ -8,8 +8,10 @@ wave would sink a 2.6 m floe of 0.27 m freeboard in its troughs). A floe is smal
 (seed 003's premise for its Eq. 11: under 1/5 of the wavelength; a 40 m floe in a 20 s sea of 52 m
 depth is 1/11): the undisturbed dynamic pressure less rho g eta_c varies linearly across it, and its
 integral over the wetted surface closed by the cut is the volume integral of its gradient, the
-Froude-Krylov force rho V a_c, with a_c the waves' acceleration at the centre of buoyancy. Eq. 11's
-diffraction term adds A a_c with the floe's added mass A. Their moments, and the pitch the wave's
+Froude-Krylov force rho V a_c, with a_c the waves' acceleration at the floe's centre of mass, where
+Eq. 11 evaluates it; Eq. 11's diffraction term adds A a_c with the floe's added mass A. The drag
+takes the waves' particle velocity there too, and the surface is cut at the elevation there: one
+sum over the sea's components per floe and step. Their moments, and the pitch the wave's
 slope (k a, 0.01 for the seed's sea) would give, are left out.
 
 Per floe of mass m, centre x, velocity v, angular velocity w, water-plane area A_wp [m^2]:
@@ -32,7 +34,7 @@ from numba import njit
 
 from . import JIT
 from .polyhedra import clip, volume_centroid
-from .waves import sea_elevation, sea_kinematics
+from .waves import sea_point
 
 
 @njit(**JIT)
@@ -43,9 +45,9 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
     floe's attitude (body to space, its principal axes); pts, counts: world polyhedra; area:
     water-plane areas [m^2]; inertia (n, 3) principal moments [kg m^2]; current (2,) [m/s]; skin
     C_w, form C_d [-]; sea_*: the waves' components (physics/waves.Sea; none: still water) at time
-    t [s], whose dynamic pressure acts on the wetted faces and whose particle velocity at the
-    floe's centre adds to the current in the drag. With waves, ``added`` (n, 3) [kg]: each floe's
-    added mass along x, y, z, times the waves' acceleration at its centre of buoyancy (seed 003 Eq. 11's
+    t [s], whose acceleration drives the Froude-Krylov force and whose particle velocity adds to
+    the current in the drag (module docstring). With waves, ``added`` (n, 3) [kg]: each floe's
+    added mass along x, y, z, times the waves' acceleration at its centre of mass (seed 003 Eq. 11's
     diffraction force on a small body).
     """
     up = np.array([0.0, 0.0, 1.0])
@@ -54,9 +56,10 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
         side = np.zeros(counts.shape[1], np.int64)
         # with waves the floe floats on the surface where it is: its buoyancy is cut at level + eta there
         # (module docstring)
-        eta = 0.0
-        if sea_amp.shape[0] > 0:
-            eta = sea_elevation(sea_amp, sea_omega, sea_k, sea_direction, sea_phase, x[i, 0:1], x[i, 1:2], t)[0]
+        eta = uw0 = uw1 = aw0 = aw1 = aw2 = 0.0
+        if sea_amp.shape[0] > 0:  # the undisturbed sea at the floe's centre of mass (seed 003 Eq. 11), one sum
+            eta, uw0, uw1, _, aw0, aw1, aw2, _ = sea_point(sea_amp, sea_omega, sea_k, sea_direction, sea_phase,
+                                                           sea_depth, g, rho_w, x[i, 0], x[i, 1], x[i, 2], t)
         sp, sc, _ = clip(pts[i], counts[i], side, up, level + eta, 1)
         vol, cob = volume_centroid(sp, sc)
         force[i, 2] -= mass[i] * g
@@ -79,14 +82,12 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
                 torque[i, e] += R[e, a] * tb
         flow0, flow1 = current[0], current[1]
         if sea_amp.shape[0] > 0:
-            centre = np.empty((1, 3))
-            centre[0] = cob
-            uw, aw, _ = sea_kinematics(sea_amp, sea_omega, sea_k, sea_direction, sea_phase, sea_depth, g, rho_w,
-                                       centre, t)
-            flow0 += uw[0, 0]
-            flow1 += uw[0, 1]
-            for e in range(3):  # Froude-Krylov rho V a and the diffraction term A a (seed 003 Eq. 11, small body)
-                force[i, e] += (rho_w * vol + added[i, e]) * aw[0, e]
+            flow0 += uw0
+            flow1 += uw1
+            # Froude-Krylov rho V a and the diffraction term A a (seed 003 Eq. 11, a small body)
+            force[i, 0] += (rho_w * vol + added[i, 0]) * aw0
+            force[i, 1] += (rho_w * vol + added[i, 1]) * aw1
+            force[i, 2] += (rho_w * vol + added[i, 2]) * aw2
         # drag of the current (and the waves' particle velocity): skin on the bottom, form on the side
         u0, u1 = flow0 - v[i, 0], flow1 - v[i, 1]
         speed = math.sqrt(u0 * u0 + u1 * u1)
