@@ -9,7 +9,10 @@ the walls when the job has no bodies):
   in the first row, over the rows with t >= ``settle``;
 * ``max_fairlead_tension`` [N]: over every line and row, of ``fairlead_tension_max`` (the peaks
   between rows) where recorded, else of ``fairlead_tension``;
-* ``max_pitch``, ``max_roll`` [deg]: the largest |pitch| and |roll| of the body over the rows.
+* ``max_pitch``, ``max_roll`` [deg]: the largest |pitch| and |roll| of the body over the rows;
+* ``max_mooring_load``, ``mean_mooring_load`` [N]: the largest and the mean horizontal pull of all
+  the body's lines (|F_h| of ``mooring_force``, seed 003's "mooring load") over the rows with
+  t >= ``settle``.
 
 Change against the reference: 100 (v - v_ref) / |v_ref| [%]. A metric a run does not have (no
 body: offsets and tensions) is NaN.
@@ -27,7 +30,8 @@ from ..io.run_reader import open_run
 METRICS = (("peak_load_x", "N", "peak ice load Fx"), ("peak_load_z", "N", "peak ice load |Fz|"),
            ("mean_offset", "m", "mean offset"), ("max_offset", "m", "max offset"),
            ("max_fairlead_tension", "N", "max fairlead tension"), ("max_pitch", "deg", "max |pitch|"),
-           ("max_roll", "deg", "max |roll|"))
+           ("max_roll", "deg", "max |roll|"), ("max_mooring_load", "N", "max mooring load"),
+           ("mean_mooring_load", "N", "mean mooring load"))
 
 
 def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
@@ -60,6 +64,11 @@ def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
                 out["mean_offset"], out["max_offset"] = float(offset.mean()), float(offset.max())
         if tension is not None and tension.size:
             out["max_fairlead_tension"] = float(tension.max())
+        mooring = get("mooring_force")
+        if mooring is not None and mooring.ndim == 3 and mooring.shape[1] > 0 and np.any(mooring):
+            load = np.hypot(mooring[:, 0, 0], mooring[:, 0, 1])[time >= settle]
+            if load.size:
+                out["max_mooring_load"], out["mean_mooring_load"] = float(load.max()), float(load.mean())
         rotation = get("body_rotation")
         if rotation is not None and rotation.shape[1] > 0 and len(rotation):
             out["max_roll"] = float(math.degrees(np.abs(rotation[:, 0, 0]).max()))

@@ -192,7 +192,8 @@ def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress,
             print(f"pice study: variant {v.index} failed: {row['error']}", file=progress, flush=True)
         return row
     row.update(wall_time=summary["wall_time"], steps=summary["steps"], elements=summary["elements"],
-               particle_steps=(summary["elements"] + summary.get("mooring_node_updates", 0)) * summary["steps"],
+               particle_steps=(summary["elements"] + summary.get("floes", 0) + summary.get("mooring_node_updates", 0))
+               * summary["steps"],
                particle_steps_per_second=summary["particle_steps_per_second"], ranks=summary["ranks"])
     return row
 
