@@ -182,9 +182,9 @@ def _add_braces(vol, mom, braces, R, position, level, slices):
     by R and position and sliced (``brace_submerged``), added to the mesh's vol and mom."""
     mom = mom.copy()
     for k in range(braces.shape[0]):
-        p0 = R @ braces[k].p0 + position
-        p1 = R @ braces[k].p1 + position
-        vb, cb = brace_submerged(p0, p1, braces[k].radius, level, slices)
+        p0 = R @ braces[k]["p0"] + position
+        p1 = R @ braces[k]["p1"] + position
+        vb, cb = brace_submerged(p0, p1, braces[k]["radius"], level, slices)
         if vb > 0.0:
             vol += vb
             for q in range(3):

@@ -115,14 +115,14 @@ def brace_wave_loads(braces, R, position, level, slices, sea, t, rho_w, g):
     force = np.zeros(3)
     moment = np.zeros(3)
     for kb in range(braces.shape[0]):
-        p0 = R @ braces[kb].p0 + position
-        p1 = R @ braces[kb].p1 + position
+        p0 = R @ braces[kb]["p0"] + position
+        p1 = R @ braces[kb]["p1"] + position
         axis, length, cos_t, down = brace_axis(p0, p1)
         dl = length / slices
         for k in range(slices):
             c = p0 + (k + 0.5) / slices * axis
             w = wave_at(sea, c[0], c[1], c[2] - level, t)
-            area, drop = slice_section(c[2] - (level + w[0]), cos_t, braces[kb].radius)
+            area, drop = slice_section(c[2] - (level + w[0]), cos_t, braces[kb]["radius"])
             if area <= 0.0:
                 continue
             dv = area * dl
