@@ -90,6 +90,7 @@ def compare(rows: list[dict], reference: int | None = None) -> int:
     the first of equals); return the reference's index."""
     ref = reference if reference is not None else max(range(len(rows)), key=lambda k: rows[k]["particle_steps"])
     for row in rows:
-        row["change_pct"] = {name: change_percent(row["metrics"][name], rows[ref]["metrics"][name])
+        nan = float("nan")  # a metric a row lacks (a study written before it existed) compares as NaN
+        row["change_pct"] = {name: change_percent(row["metrics"].get(name, nan), rows[ref]["metrics"].get(name, nan))
                              for name, _, _ in METRICS}
     return ref
