@@ -242,10 +242,22 @@ def face_planes(pts, counts):
     out = np.zeros((pts.shape[0], pts.shape[1], 4))
     for k in range(pts.shape[0]):
         for f in range(pts.shape[1]):
-            if counts[k, f] >= 3:
-                normal, offset = face_plane(pts[k, f], counts[k, f])
-                out[k, f, :3] = normal
-                out[k, f, 3] = offset
+            m = counts[k, f]
+            if m < 3:
+                continue
+            poly = pts[k, f]  # face_plane's sums, written in place (no array per face)
+            p0, p1, p2 = poly[0, 0], poly[0, 1], poly[0, 2]
+            s0 = s1 = s2 = 0.0
+            for i in range(1, m - 1):
+                a0, a1, a2 = poly[i, 0] - p0, poly[i, 1] - p1, poly[i, 2] - p2
+                b0, b1, b2 = poly[i + 1, 0] - p0, poly[i + 1, 1] - p1, poly[i + 1, 2] - p2
+                s0 += a1 * b2 - a2 * b1
+                s1 += a2 * b0 - a0 * b2
+                s2 += a0 * b1 - a1 * b0
+            norm = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+            s0, s1, s2 = s0 / norm, s1 / norm, s2 / norm
+            out[k, f, 0], out[k, f, 1], out[k, f, 2] = s0, s1, s2
+            out[k, f, 3] = s0 * p0 + s1 * p1 + s2 * p2
     return out
 
 
