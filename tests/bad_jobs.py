@@ -116,6 +116,13 @@ ea = 1.0e8
 diameter = 0.05
 wet_weight = 100.0
 """
+BUOY = """[[bodies]]
+name = "buoy"
+hull = {type = "buoy", d_max = 9.0, alpha = 45.0, height = 3.0}
+mass = "shell"
+shell_thickness = 0.0619
+position = "afloat"
+"""
 NUMBER_S = r"\d+(\.\d+)?(e-?\d+)? s"  # a time in seconds as printed
 
 CASES = [
@@ -247,6 +254,29 @@ CASES = [
     case("pretension_below_slack", BASE + WATER + BODY + MOORING.replace("pretension = 5.0e3", "pretension = 10.0"),
          "moorings[0].pretension = 10: a fairlead tension of 10 N is below the slackest static state",
          setup=True),
+    # --- the moored buoy of seed 004 (issue 16): a "buoy" hull, a steel shell's mass, "afloat"
+    case("buoy_cone_closes_before_keel", BASE + WATER + BUOY.replace("d_max = 9.0", "d_max = 4.0"),
+         "bodies[0].hull.d_max = 4.0: the lower cone at alpha = 45 deg",
+         "closes before the keel", "widen the buoy (d_max > 4 m) or steepen the cone (alpha > 45 deg)"),
+    case("buoy_keel_above_widest", BASE + WATER + BUOY.replace("height = 3.0}", "height = 3.0, keel = 2.6}"),
+         "bodies[0].hull.keel = 2.6: the keel cylinder (2.6 m high) must end below the widest section at 2.5 m"),
+    case("buoy_without_alpha", BASE + WATER + BUOY.replace(" alpha = 45.0,", ""),
+         "bodies[0].hull.alpha = (absent): missing: a buoy hull needs the downward-sloping hull angle [deg]"),
+    case("buoy_alpha_vertical", BASE + WATER + BUOY.replace("alpha = 45.0", "alpha = 90.0"),
+         "bodies[0].hull.alpha = 90.0: must be < 90 deg"),
+    case("buoy_key_on_a_box", BASE + WATER + BODY.replace("size = [10.0, 8.0, 4.0]}", "size = [10.0, 8.0, 4.0], d_max = 9.0}"),
+         "bodies[0].hull.d_max = 9.0: only for type = \"buoy\"; drop it (this hull is 'box')"),
+    case("shell_thickness_negative", BASE + WATER + BUOY.replace("0.0619", "-0.0619"),
+         "bodies[0].shell_thickness = -0.0619: must be > 0 m"),
+    case("shell_without_thickness", BASE + WATER + BUOY.replace("shell_thickness = 0.0619\n", ""),
+         "bodies[0].shell_thickness = (absent): missing: mass = \"shell\" needs the shell's thickness t [m]"),
+    case("inertia_missing", BASE + WATER + BODY.replace("inertia = [1.0e7, 2.0e7, 3.0e7]\n", ""),
+         "bodies[0].inertia = (absent): missing: give [roll, pitch, yaw] moments (kg m^2)", "or mass = \"shell\""),
+    case("afloat_with_balance_mass", BASE + WATER + BODY.replace("position = [12.0, 1.5, 0.0]", 'position = "afloat"'),
+         "bodies[0].position = 'afloat': \"afloat\" floats the body at its mass", "give the mass"),
+    case("buoy_too_heavy_to_float", BASE + WATER + BUOY.replace("0.0619", "0.5"),
+         "bodies[0].position = \"afloat\": the hull cannot float: wholly under water it displaces",
+         "lighten it (shell_thickness)", setup=True),
     # --- solves at set-up that cannot converge (the catenary of pice/platform/catenary.py is bounded
     # and ends in one line naming the key; lines it cannot hold are refused before it runs; issue 13:
     # ea = 1.0 raised OverflowError, ea = 1e-300 spun for minutes, pretension = 1e300 said "raise the

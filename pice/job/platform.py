@@ -9,6 +9,7 @@ These are the schema only; pice/platform/ builds and steps them.
 
 from __future__ import annotations
 
+import math
 from typing import Literal, Optional, Union
 
 from pydantic import Field, StrictBool, model_validator
@@ -21,14 +22,23 @@ Moment = quantity("kg m^2")  # a principal moment of inertia, > 0
 
 
 class HullSpec(Section):
-    """[bodies.hull]: the hull surface in the body frame (origin at the centre of gravity)."""
+    """[bodies.hull]: the hull surface in the body frame (origin at the centre of gravity).
 
-    type: Literal["semi_submersible", "box", "mesh", "revolved"]
+    "buoy" is the double cone of Cai (2018, seed 004; platform.hulls.buoy_design_profile), keel
+    cylinder, lower cone at ``alpha`` up to the widest section of diameter ``d_max``, upper cone to the
+    top, placed with its shell's centre at the body origin (the centre of gravity of a thin shell)."""
+
+    type: Literal["semi_submersible", "box", "mesh", "revolved", "buoy"]
     size: Optional[vector(Vec3, "m")] = None        # box: length, width, height
     centre: vector(Vec3, "m") = (0.0, 0.0, 0.0)     # box: centre in the body frame
     file: Optional[str] = None                      # mesh: meshio-readable closed triangle mesh
     profile: Optional[tuple[vector(Vec2, "m"), ...]] = None  # revolved: (z, r) rings [m], keel up, body frame
-    segments: count(3) = 48                         # revolved: sides of each ring
+    segments: count(3) = 48                         # revolved, buoy: sides of each ring
+    d_max: Optional[quantity("m")] = None           # buoy: the widest diameter
+    alpha: Optional[quantity("deg", lt=90.0)] = None  # buoy: downward-sloping hull angle, from the horizontal
+    height: Optional[quantity("m")] = None          # buoy: keel to top
+    keel: Optional[quantity("m", gt=None, ge=0.0)] = None   # buoy: the keel cylinder's height (default height/6)
+    widest: Optional[quantity("m")] = None          # buoy: the widest section above the keel (default 5 height/6)
 
     @model_validator(mode="after")
     def _geometry(self):
@@ -44,7 +54,47 @@ class HullSpec(Section):
         if self.type == "mesh" and self.file is None:
             raise ValueError("file: missing: a mesh hull needs file = \"path/to/hull.stl\" (relative to the "
                              "job file's folder; body frame, origin at the centre of gravity)")
+        self._buoy()
         return self
+
+    def _buoy(self) -> None:
+        """The keys of a "buoy" hull: d_max, alpha and height given, the cones fitting the height."""
+        keys = ("d_max", "alpha", "height", "keel", "widest")
+        if self.type != "buoy":
+            for key in keys:
+                if getattr(self, key) is not None:
+                    raise ValueError(f"{key}: only for type = \"buoy\"; drop it (this hull is {self.type!r})")
+            return
+        if self.profile is not None:
+            raise ValueError("profile: a buoy hull's rings come from d_max, alpha and height; drop profile "
+                             "(or use type = \"revolved\")")
+        for key, what in (("d_max", "the widest diameter [m]"), ("alpha", "the downward-sloping hull angle [deg], "
+                                                                          "from the horizontal"),
+                          ("height", "keel to top [m]")):
+            if getattr(self, key) is None:
+                raise ValueError(f"{key}: missing: a buoy hull needs {what}")
+        keel, widest = self.buoy_keel, self.buoy_widest
+        if widest >= self.height:
+            raise ValueError(f"widest: must be < height = {self.height:g} m (the upper cone lies above it)")
+        if keel >= widest:
+            raise ValueError(f"keel: the keel cylinder ({keel:g} m high) must end below the widest section at "
+                             f"{widest:g} m; lower keel or raise widest")
+        drop = (widest - keel) / math.tan(math.radians(self.alpha))
+        if drop >= 0.5 * self.d_max:
+            raise ValueError(f"d_max: the lower cone at alpha = {self.alpha:g} deg closes before the keel (its diameter "
+                             f"shrinks by {2 * drop:.4g} m over its {widest - keel:g} m height); widen the buoy (d_max > {2 * drop:.4g} m) "
+                             f"or steepen the cone (alpha > "
+                             f"{math.degrees(math.atan2(widest - keel, 0.5 * self.d_max)):.4g} deg)")
+
+    @property
+    def buoy_keel(self) -> float:
+        """A buoy's keel cylinder [m]: given, or height/6 (seed 004 Eq. 4-16)."""
+        return self.keel if self.keel is not None else self.height / 6.0
+
+    @property
+    def buoy_widest(self) -> float:
+        """A buoy's widest section above its keel [m]: given, or 5 height/6 (seed 004 Eq. 4-22)."""
+        return self.widest if self.widest is not None else 5.0 * self.height / 6.0
 
 
 class BodySpec(Section):
@@ -52,9 +102,14 @@ class BodySpec(Section):
 
     name: str
     hull: HullSpec
-    mass: Union[Literal["balance"], quantity("kg")]             # "balance": the mass that floats at `position`
-    inertia: vector(tuple[Moment, Moment, Moment], "kg m^2")     # roll, pitch, yaw about the CG
-    position: vector(Vec3, "m")                                  # centre of gravity at t = 0
+    mass: Union[Literal["balance", "shell"], quantity("kg")]    # "balance": the mass that floats at `position`;
+                                                                 # "shell": a steel shell (platform/shell.py)
+    inertia: Optional[vector(tuple[Moment, Moment, Moment], "kg m^2")] = None  # roll, pitch, yaw about the CG
+                                                                 # (default with mass = "shell": the shell's)
+    shell_thickness: Optional[quantity("m")] = None              # mass = "shell": t of m = rho_s t S
+    shell_density: quantity("kg/m^3") = 7850.0                   # mass = "shell": rho_s (steel, seed 004 Eq. 4-19)
+    position: Union[Literal["afloat"], vector(Vec3, "m")]        # centre of gravity at t = 0; "afloat": at x = y =
+                                                                 # 0, as high as it floats with its lines' pull
     heading: quantity("deg", gt=None) = 0.0                      # yaw at t = 0
     added_mass: vector(Vec6, "kg, kg m^2") = (0.0,) * 6          # diagonal, body frame
     damping: vector(Vec6, "N s^2/m^2, N m s^2") = (0.0,) * 6     # quadratic B of F = -B |u| u, body frame
@@ -64,6 +119,24 @@ class BodySpec(Section):
     friction: quantity("", gt=None, ge=0.0) = 0.15               # ice-hull Coulomb friction
     normal_stiffness: Optional[quantity("N/m")] = None           # ice-hull contact spring (default: contact's)
     crushing_width: Optional[quantity("m")] = None               # w of ISO 19906 crushing (default: hull's y-extent)
+
+    @model_validator(mode="after")
+    def _mass(self):
+        if self.mass == "shell" and self.shell_thickness is None:
+            raise ValueError("shell_thickness: missing: mass = \"shell\" needs the shell's thickness t [m] of "
+                             "m = shell_density t S (seed 004 Eq. 4-21: 0.0619 m of steel)")
+        if self.mass != "shell" and self.shell_thickness is not None:
+            raise ValueError("shell_thickness: only with mass = \"shell\"; drop it or set mass = \"shell\"")
+        if self.mass != "shell" and self.inertia is None:
+            raise ValueError("inertia: missing: give [roll, pitch, yaw] moments (kg m^2) about the centre of "
+                             "gravity, or mass = \"shell\" (a thin shell's)")
+        if self.position == "afloat" and self.mass == "balance":
+            raise ValueError("position: \"afloat\" floats the body at its mass, and mass = \"balance\" is the mass "
+                             "that floats at a given position: give the mass (kg or \"shell\") or the position")
+        if self.position == "afloat" and self.hull.type == "mesh":
+            raise ValueError("position: \"afloat\" needs a hull built from parameters (box, revolved, buoy, "
+                             "semi_submersible); for a mesh hull give [x, y, z] (m)")
+        return self
 
     @model_validator(mode="after")
     def _motion(self):

@@ -25,6 +25,7 @@ from .catenary import LayoutError, Segment
 from .hull_buoyancy import BRACE_RECORD, submerged
 from .hull_contact import Hull, build_triangle_grid, hull_forces
 from .hull_waves import panel_mesh
+from .body_setup import afloat_position, body_profile, mass_and_inertia
 from .hulls import box, revolved, semi_submersible, semi_submersible_braces
 from .layout import RHO_STEEL, spread_mooring
 from .mooring_lines import LineSegment, build_lines
@@ -48,8 +49,8 @@ def hull_mesh(job, k: int, base_dir=None) -> tuple[np.ndarray, np.ndarray]:
         v, t = semi_submersible()
     elif spec.type == "box":
         v, t = box(*spec.size, centre=spec.centre)
-    elif spec.type == "revolved":
-        v, t = revolved(spec.profile, spec.segments)
+    elif spec.type in ("revolved", "buoy"):
+        v, t = revolved(body_profile(spec), spec.segments)
     else:
         try:
             v, t = read_triangle_mesh(pathlib.Path(base_dir or ".") / spec.file)
@@ -80,12 +81,22 @@ def hulls_from_job(job, *, default_kn: float, reach: float, base_dir=None) -> li
 
 
 def initial_poses(job) -> np.ndarray:
-    """(n_bodies, 13) x, q, v, omega at t = 0 as the job gives them (at rest)."""
+    """(n_bodies, 13) x, q, v, omega at t = 0 as the job gives them (at rest); a body whose position
+    is "afloat" at x = y = 0 and the height where it floats with its lines' pull (body_setup)."""
     poses = np.zeros((len(job.bodies), 13))
     for k, b in enumerate(job.bodies):
-        poses[k, :3] = b.position
         poses[k, 3:7] = heading_quaternion(b.heading)
+        if b.position == "afloat":
+            v, t = hull_mesh(job, k)
+            poses[k, :3] = afloat_position(job, k, v, t, _braces(b), poses[k, 3:7],
+                                           mass=mass_and_inertia(job, k, v, t)[0], pull_z=_layout_pull_z(job, k))
+        else:
+            poses[k, :3] = b.position
     return poses
+
+
+def _braces(spec) -> np.ndarray:
+    return semi_submersible_braces() if spec.hull.type == "semi_submersible" else np.zeros(0, BRACE_RECORD)
 
 
 def refuse_initial_overlap(job, p, hulls: list[Hull], poses: np.ndarray) -> None:
@@ -161,21 +172,19 @@ def _lines(spec, lines, segs, w, seabed_z: float):
     return lines_obj
 
 
-def _mooring_group(job, k: int, poses: np.ndarray) -> MooringGroup:
-    """The lines of moorings[k], anchored by the layout solve, attached to their body at its pose
-    (poses: (n_bodies, 13) as initial_poses gives them)."""
+def _layout(job, k: int):
+    """(lines as (anchor, fairlead, segments), the layout LineState, the anchor distance [m], the
+    LineSegments) of moorings[k] by the layout solve (layout.spread_mooring); JobError when it fails."""
     spec, w = job.moorings[k], job.water
-    ib = [b.name for b in job.bodies].index(spec.body)
     segs = _segments(spec, w.density, job.gravity)
     where = f"{job.source}: moorings[{k}]"
-    seabed_z = w.level - w.depth
     try:
         lines, state, dist = spread_mooring(fairleads_body=np.asarray(spec.fairleads, float),
                                             bundle_headings_deg=spec.headings, spread_deg=spec.spread,
                                             lines_per_bundle=spec.lines_per_fairlead,
                                             fairlead_to_anchor_height=spec.anchor_depth,
                                             pretension=spec.pretension, segments=segs, rho_w=w.density,
-                                            seabed_z=seabed_z)
+                                            seabed_z=w.level - w.depth)
     except LayoutError as exc:
         fix = (f"raise the pretension to at least {exc.limit:.4g} N or move the anchors (anchor_depth)"
                if exc.limit is not None else "lower the pretension or check the segments (ea, wet_weight, length)")
@@ -183,6 +192,31 @@ def _mooring_group(job, k: int, poses: np.ndarray) -> MooringGroup:
     except ValueError as exc:  # the catenary solve failed inside the layout solve
         raise JobError(f"{where}.pretension = {spec.pretension:g}: the layout solve failed ({exc}); check the "
                        "segments (ea, wet_weight, length), anchor_depth and the pretension") from None
+    return lines, state, dist, segs
+
+
+def _layout_pull_z(job, ib: int) -> float:
+    """The vertical pull [N] (< 0: down) of every line on bodies[ib] at its layout (the quasi-static
+    catenary at the pretension), before any line is built: a body "afloat" floats with it."""
+    name, out = job.bodies[ib].name, 0.0
+    for k, spec in enumerate(job.moorings):
+        if spec.body == name:
+            lines, _, _, segs = _layout(job, k)
+            cat = [Segment(s.length, s.wet_weight, s.ea) for s in segs]
+            quasi = QuasiStaticLines([a for a, _, _ in lines], [f for _, f, _ in lines], [cat] * len(lines),
+                                     seabed=True, seabed_z=job.water.level - job.water.depth)
+            out += float(quasi.pull[:, 2].sum())
+    return out
+
+
+def _mooring_group(job, k: int, poses: np.ndarray) -> MooringGroup:
+    """The lines of moorings[k], anchored by the layout solve, attached to their body at its pose
+    (poses: (n_bodies, 13) as initial_poses gives them)."""
+    spec, w = job.moorings[k], job.water
+    ib = [b.name for b in job.bodies].index(spec.body)
+    where = f"{job.source}: moorings[{k}]"
+    seabed_z = w.level - w.depth
+    lines, state, dist, segs = _layout(job, k)
     above = min(a[2] for a, _, _ in lines) - seabed_z
     log.info("moorings[%d] (%s): %d lines, anchors %.1f m out horizontally and %.1f m above the seabed; at the "
              "%.4g N pretension the line %s (horizontal tension %.4g N, vertical pull on the anchor %.4g N, "
@@ -202,12 +236,13 @@ def _mooring_group(job, k: int, poses: np.ndarray) -> MooringGroup:
 
 
 # -- bodies (rank 0) ---------------------------------------------------------------------------
-def _body_mass(job, k: int, hull: Hull, braces: np.ndarray, pose: np.ndarray, line_pull_z: float) -> float:
-    """bodies[k].mass [kg]; "balance": the mass whose weight equals the buoyancy of hull and braces
-    at the body's initial pose plus the lines' vertical pull there, rho_w V + F_z / g."""
+def _body_mass(job, k: int, mass, hull: Hull, braces: np.ndarray, pose: np.ndarray, line_pull_z: float) -> float:
+    """bodies[k]'s ``mass`` [kg] (body_setup.mass_and_inertia); "balance": the mass whose weight equals
+    the buoyancy of hull and braces at the body's initial pose plus the lines' vertical pull there,
+    rho_w V + F_z / g."""
     spec, w = job.bodies[k], job.water
-    if spec.mass != "balance":
-        return float(spec.mass)
+    if mass != "balance":
+        return float(mass)
     vol = submerged(hull.vertices, hull.triangles, braces, position=pose[:3], attitude=pose[3:7], level=w.level)[0]
     mass = w.density * vol + line_pull_z / job.gravity
     if mass <= 0.0:
@@ -232,9 +267,10 @@ def build_platform(job, hulls: list[Hull]) -> Platform:
     pull = lines_pull(groups, len(job.bodies))
     bodies = []
     for k, (spec, hull) in enumerate(zip(job.bodies, hulls)):
-        braces = semi_submersible_braces() if spec.hull.type == "semi_submersible" else np.zeros(0, BRACE_RECORD)
-        body = RigidBody(spec.name, _body_mass(job, k, hull, braces, poses[k], pull[k, 2]),
-                         np.asarray(spec.inertia, float), hull.vertices, hull.triangles, braces=braces,
+        braces = _braces(spec)
+        mass, inertia = mass_and_inertia(job, k, hull.vertices, hull.triangles)
+        body = RigidBody(spec.name, _body_mass(job, k, mass, hull, braces, poses[k], pull[k, 2]),
+                         inertia, hull.vertices, hull.triangles, braces=braces,
                          added_mass=np.asarray(spec.added_mass, float), damping=np.asarray(spec.damping, float),
                          current_drag=np.asarray(spec.current_drag, float),
                          prescribed=np.asarray(spec.velocity, float) if spec.motion == "prescribed" else None,
@@ -242,6 +278,12 @@ def build_platform(job, hulls: list[Hull]) -> Platform:
         if panel is not None:
             log.info("bodies[%d] (%s): %d wave-pressure panels of at most %.3g m", k, spec.name,
                      len(body.panels[1]), panel)
+        if spec.mass == "shell" or spec.position == "afloat":
+            log.info("bodies[%d] (%s): mass %.6g kg%s, inertia [%.4g, %.4g, %.4g] kg m^2; its centre at z = %.6g m, "
+                     "its lowest point %.4g m under the water%s", k, spec.name, body.mass,
+                     f" (a {spec.shell_thickness:g} m shell)" if spec.mass == "shell" else "", *body.inertia,
+                     poses[k, 2], w.level - poses[k, 2] - hull.vertices[:, 2].min(),
+                     f" (afloat with its lines at their layout; settled, they pull {pull[k, 2]:.4g} N)" if spec.position == "afloat" else "")
         body.x = poses[k, :3].copy()
         body.q = poses[k, 3:7].copy()
         bodies.append(body)

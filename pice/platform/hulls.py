@@ -163,6 +163,30 @@ def revolved(profile, segments: int = 48) -> tuple[np.ndarray, np.ndarray]:
     return np.vstack(verts), np.asarray(tris, np.int64)
 
 
+def buoy_design_profile(*, d_max: float, alpha_deg: float, height: float = 3.0, keel: float | None = None,
+                        widest: float | None = None) -> np.ndarray:
+    """(z, r) rings [m], keel at z = 0, of one moored buoy of Cai (2018, seed 004) as its Table 6-1/6-2
+    designs are built: a keel cylinder ``keel`` m high (default H/6, Eq. 4-16), the lower cone at the
+    downward-sloping hull angle ``alpha_deg`` (from the horizontal) up to the widest section, diameter
+    ``d_max``, at ``widest`` m (default 5H/6, Eq. 4-22), and the upper cone back to the minimum
+    diameter at the top, ``height``: D_min = D_max - 2 (widest - keel) / tan(alpha), and the
+    upward-sloping angle theta = atan((height - widest) / (r_max - r_min)). Table 4-2's buoy is
+    d_max 9 m at 45 deg (D_min 5 m, theta 14.04 deg). Raises ValueError when D_min would not be > 0."""
+    keel = height / 6.0 if keel is None else keel
+    widest = 5.0 * height / 6.0 if widest is None else widest
+    if not 0.0 <= keel < widest < height:
+        raise ValueError(f"keel = {keel:g} m, widest = {widest:g} m, height = {height:g} m: need 0 <= keel < "
+                         "widest < height")
+    drop = (widest - keel) / math.tan(math.radians(alpha_deg))  # r_max - r_min [m]
+    r_max = 0.5 * d_max
+    if r_max - drop <= 0.0:
+        raise ValueError(f"D_max = {d_max:g} m at {alpha_deg:g} deg: the cone closes before the keel (D_min "
+                         f"{d_max - 2 * drop:.3g} m); widen the buoy (D_max > {2 * drop:.4g} m) or steepen the hull "
+                         f"angle (> {math.degrees(math.atan2(widest - keel, r_max)):.4g} deg)")
+    rings = [(0.0, r_max - drop)] + ([(keel, r_max - drop)] if keel > 0.0 else [])
+    return np.array(rings + [(widest, r_max), (height, r_max - drop)])
+
+
 def cylinder(p0, p1, radius: float, n: int = 64) -> tuple[np.ndarray, np.ndarray]:
     """A closed n-sided prism around the segment p0 -> p1 (outward triangles): a brace as a mesh,
     for drawing it or checking Eqs. 13-14 against the clipped-mesh volume of Eq. 12."""

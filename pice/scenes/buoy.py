@@ -19,7 +19,11 @@ import math
 
 import numpy as np
 
+from ..platform.hulls import buoy_design_profile
+
 STEEL_DENSITY = 7850.0  # [kg/m^3] (Eq. 4-19)
+
+design_profile = buoy_design_profile  # one design of Table 6-1 (its home: platform.hulls)
 
 
 def buoy_profile(*, d_max: float, d_min: float, height: float, alpha_deg: float, theta_deg: float):
@@ -62,20 +66,6 @@ def shell_properties(vertices: np.ndarray, triangles: np.ndarray, *, mass: float
                        + np.einsum("ti,tj->tij", s, s)) * sigma
     inertia = np.trace(second) * np.eye(3) - second
     return mass / (STEEL_DENSITY * total), centre, inertia
-
-
-def design_profile(*, d_max: float, alpha_deg: float, height: float = 3.0, keel: float = 0.5,
-                   widest: float = 2.5) -> np.ndarray:
-    """(z, r) rings [m] of one design of Cai's sweep (Table 6-1: D_max 7-10.5 m, alpha 30-70 deg) as the
-    thesis's Table 6-2 builds them: the keel cylinder ``keel`` m high, the lower cone at alpha up to the
-    widest section at ``widest`` m, the upper cone back to the minimum diameter at the top, so that
-    D_min = D_max - 2 (widest - keel) / tan(alpha). Raises ValueError when D_min would not be > 0."""
-    drop = (widest - keel) / math.tan(math.radians(alpha_deg))  # r_max - r_min [m]
-    r_max = 0.5 * d_max
-    if r_max - drop <= 0.0:
-        raise ValueError(f"D_max = {d_max} m at {alpha_deg} deg: the cone closes before the keel (D_min "
-                         f"{d_max - 2 * drop:.3g} m); widen the buoy or steepen the hull angle")
-    return np.array([(0.0, r_max - drop), (keel, r_max - drop), (widest, r_max), (height, r_max - drop)])
 
 
 def stationary_draft(vertices: np.ndarray, triangles: np.ndarray, *, mass: float, rho_w: float = 1025.0) -> float:
