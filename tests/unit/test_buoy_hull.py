@@ -1,0 +1,93 @@
+"""The moored buoy of Cai (2018, seed 004) as a job: the "buoy" hull, the steel shell's mass and inertia
+(mass = "shell") and the start "afloat" (issue 16).
+
+References: Table 4-2 (the pre-designed buoy: surface area 154.66 m^2, 73.28 m^3 displacing 7.51e4 kg
+at the 2.24 m draft, equivalent thickness 0.0619 m, which is 75,112 / (7,850 x 154.66) = 0.06187 m
+rounded), Table 6-10 (the optimised design, D_max 7.5 m at 65 deg: D_min 5.63 m, theta 28.20 deg,
+S 126.09 m^2) and Table 6-9 (its weight 61.27 t with the rounded 0.0619 m). The job's hand-computed
+numbers before it used the buoy hull (commit 47bf6a0): mass 75112 kg, inertia [4.72e5, 4.72e5,
+7.75e5] kg m^2, the centre 1.83 m above the keel.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scenes import REPO, tomllib
+
+from pice.errors import JobError
+from pice.job import load_job, parse_job
+from pice.platform.body_setup import body_profile, mass_and_inertia
+from pice.platform.build import hull_mesh, initial_poses
+from pice.platform.hulls import buoy_design_profile, revolved
+from pice.platform.shell import mesh_shell, revolved_shell
+
+JOB = REPO / "jobs" / "cai_2018_buoy.toml"
+STEEL = 7850.0
+
+
+def test_revolved_shell_against_the_meshed_shell_and_a_closed_cylinder():
+    """The exact shell of revolution against the triangles of a 4096-gon (within 1e-5), and a thin closed
+    cylinder (R, L: I_zz = m_side R^2 + m_disk R^2, I_xx = m_side (R^2/2 + L^2/12) + 2 m_disk (R^2/4 + L^2/4))."""
+    prof = buoy_design_profile(d_max=9.0, alpha_deg=45.0)
+    mass, centre, inertia = revolved_shell(prof, areal_density=100.0)
+    m2, c2, i2 = mesh_shell(*revolved(prof, 4096), areal_density=100.0)
+    assert mass == pytest.approx(m2, rel=1e-5) and centre[2] == pytest.approx(c2[2], rel=1e-5)
+    np.testing.assert_allclose(inertia, np.diag(i2), rtol=1e-5)
+    R, L = 2.0, 3.0
+    mass, centre, inertia = revolved_shell([(0.0, R), (L, R)], areal_density=1.0)
+    m_side, m_disk = 2 * math.pi * R * L, math.pi * R * R
+    assert mass == pytest.approx(m_side + 2 * m_disk, rel=1e-12) and centre[2] == pytest.approx(L / 2, rel=1e-12)
+    ixx = m_side * (R * R / 2 + L * L / 12) + 2 * m_disk * (R * R / 4 + L * L / 4)
+    np.testing.assert_allclose(inertia, [ixx, ixx, m_side * R * R + m_disk * R * R], rtol=1e-12)
+
+
+def test_designs_of_tables_4_2_and_6_10():
+    prof = buoy_design_profile(d_max=9.0, alpha_deg=45.0)   # Table 4-2
+    np.testing.assert_allclose(prof, [[0.0, 2.5], [0.5, 2.5], [2.5, 4.5], [3.0, 2.5]], atol=1e-12)
+    assert revolved_shell(prof, areal_density=1.0)[0] == pytest.approx(154.66, abs=0.005)
+    prof = buoy_design_profile(d_max=7.5, alpha_deg=65.0)   # Table 6-10
+    assert 2 * prof[0, 1] == pytest.approx(5.63, abs=0.005)
+    theta = math.degrees(math.atan2(prof[3, 0] - prof[2, 0], prof[2, 1] - prof[3, 1]))
+    assert theta == pytest.approx(28.20, abs=0.005)
+    area = revolved_shell(prof, areal_density=1.0)[0]
+    assert area == pytest.approx(126.09, abs=0.005)
+    assert STEEL * 0.0619 * area / 1e3 == pytest.approx(61.27, abs=0.005)  # Table 6-9 [t]
+
+
+def test_the_job_reproduces_its_hand_computed_buoy():
+    job = load_job(JOB)
+    v, t = hull_mesh(job, 0)
+    mass, inertia = mass_and_inertia(job, 0, v, t)
+    assert round(mass / 1e4, 2) == 7.51 and mass == pytest.approx(75112.0, rel=1e-4)
+    assert mass / job.water.density == pytest.approx(73.28, abs=0.005)
+    np.testing.assert_allclose(np.round(inertia / 1e5, 2), [4.72, 4.72, 7.75])
+    prof = body_profile(job.bodies[0].hull)
+    assert round(-prof[0, 0], 2) == 1.83                      # the centre above the keel [m]
+    np.testing.assert_allclose(prof[:, 1], [2.5, 2.5, 4.5, 2.5], atol=1e-12)
+    z = initial_poses(job)[0, :3]
+    assert z[0] == 0.0 and z[1] == 0.0
+    keel = -(z[2] + v[:, 2].min())
+    assert keel == pytest.approx(2.278, abs=5e-4)              # with the chain's 20.5 kN pull
+    data = tomllib.loads(job.text)
+    del data["moorings"]
+    alone = parse_job(data, source="no chain")
+    assert round(-(initial_poses(alone)[0, 2] + v[:, 2].min()), 2) == 2.24  # Table 4-2's draft
+
+
+def test_the_buoy_hull_is_varied_like_any_key(tmp_path):
+    from pice.study.variants import make_variants
+
+    variants = make_variants(JOB, ["bodies[0].hull.d_max=7.5,10.5", "bodies[0].hull.alpha=30,65"], out_dir=tmp_path)
+    assert [(v.job.bodies[0].hull.d_max, v.job.bodies[0].hull.alpha) for v in variants] == \
+        [(7.5, 30), (7.5, 65), (10.5, 30), (10.5, 65)]
+    for v in variants:  # every variant builds its hull; at 30 deg the closed hull of D_max 7.5 m sinks
+        verts, tris = hull_mesh(v.job, 0)
+        assert np.ptp(verts[:, 0]) == pytest.approx(v.job.bodies[0].hull.d_max, rel=1e-9)
+        if v.index == 0:  # Table 6-2: 2.78 m, above its widest section: the thesis's cone ran on past D_max
+            with pytest.raises(JobError, match="the hull cannot float"):
+                initial_poses(v.job)
+        else:
+            assert initial_poses(v.job)[0, 2] < 0.0
