@@ -74,7 +74,8 @@ def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, 
     reach = bound[i] + bound[j]
     if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach:
         return nrec, nplastic, worst
-    if (separated_by_planes(planes[i], counts[i], pts[j], counts[j])
+    if (_apart_along(d0, d1, d2, pts[i], counts[i], pts[j], counts[j])
+            or separated_by_planes(planes[i], counts[i], pts[j], counts[j])
             or separated_by_planes(planes[j], counts[j], pts[i], counts[i])):
         return nrec, nplastic, worst
     a, b = (i, j) if gid[i] < gid[j] else (j, i)
@@ -110,6 +111,22 @@ def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, 
         r[5], r[6], r[7] = -ta[0], -ta[1], -ta[2]
         r[8], r[9], r[10] = tb[0], tb[1], tb[2]
     return nrec + 1, nplastic, worst
+
+
+@njit(**JIT)
+def _apart_along(d0, d1, d2, a_pts, a_counts, b_pts, b_counts):
+    """True when the line between the centres, d = x_b - x_a, separates the two polyhedra: every point
+    of A projects below every point of B. The cheap first test of a pair of neighbouring floes (a
+    packed field's neighbours mostly part along it), before the face planes."""
+    hi = -math.inf
+    for f in range(a_counts.shape[0]):
+        for k in range(a_counts[f]):
+            hi = max(hi, d0 * a_pts[f, k, 0] + d1 * a_pts[f, k, 1] + d2 * a_pts[f, k, 2])
+    for f in range(b_counts.shape[0]):
+        for k in range(b_counts[f]):
+            if d0 * b_pts[f, k, 0] + d1 * b_pts[f, k, 1] + d2 * b_pts[f, k, 2] <= hi:
+                return False
+    return True
 
 
 @njit(**JIT)
