@@ -12,7 +12,13 @@ the walls when the job has no bodies):
 * ``max_pitch``, ``max_roll`` [deg]: the largest |pitch| and |roll| of the body over the rows;
 * ``max_mooring_load``, ``mean_mooring_load`` [N]: the largest and the mean horizontal pull of all
   the body's lines (|F_h| of ``mooring_force``, seed 003's "mooring load") over the rows with
-  t >= ``settle``.
+  t >= ``settle``;
+* the design criteria of Cai (2018, seed 004, section 6.1; study/hull_metrics.py), from the body's
+  pose in each row, its hull (the run's first snapshot) and the water of the job the run file keeps:
+  ``max_heel`` [deg] (criterion (1), no overturning: max_heel_deg < 90), ``draft``, ``min_draft``,
+  ``max_draft`` [m] (criterion (3)), ``min_rim_freeboard`` [m] (criterion (4): the upward slope
+  never under water, min_rim_freeboard_m > 0) and ``max_offset_of_depth`` [%] (criteria (5), (7):
+  max_offset_of_depth_pct <= 15 or 25).
 
 Change against the reference: 100 (v - v_ref) / |v_ref| [%]. A metric a run does not have (no
 body: offsets and tensions) is NaN.
@@ -25,13 +31,14 @@ import math
 import numpy as np
 
 from ..io.run_reader import open_run
+from .hull_metrics import HULL_METRICS, hull_metrics
 
 #: (name, unit, label) of every metric, in the order of the table, the CSV and the figure
 METRICS = (("peak_load_x", "N", "peak ice load Fx"), ("peak_load_z", "N", "peak ice load |Fz|"),
            ("mean_offset", "m", "mean offset"), ("max_offset", "m", "max offset"),
            ("max_fairlead_tension", "N", "max fairlead tension"), ("max_pitch", "deg", "max |pitch|"),
            ("max_roll", "deg", "max |roll|"), ("max_mooring_load", "N", "max mooring load"),
-           ("mean_mooring_load", "N", "mean mooring load"))
+           ("mean_mooring_load", "N", "mean mooring load"), *HULL_METRICS)
 
 
 def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
@@ -73,6 +80,7 @@ def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
         if rotation is not None and rotation.shape[1] > 0 and len(rotation):
             out["max_roll"] = float(math.degrees(np.abs(rotation[:, 0, 0]).max()))
             out["max_pitch"] = float(math.degrees(np.abs(rotation[:, 0, 1]).max()))
+        out.update(hull_metrics(run, settle=settle, max_offset=out["max_offset"]))
     return out
 
 

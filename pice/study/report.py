@@ -18,7 +18,7 @@ from .metrics import METRICS
 from .plot import plot_study
 from .variants import show_value
 
-_TABLE_SCALE = {"N": (1e3, "kN"), "m": (1.0, "m"), "deg": (1.0, "deg")}
+_TABLE_SCALE = {"N": (1e3, "kN"), "m": (1.0, "m"), "deg": (1.0, "deg"), "pct": (1.0, "%")}
 
 
 def study_table(study: dict) -> list[str]:
