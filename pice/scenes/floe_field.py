@@ -11,8 +11,9 @@ The method, chosen because it reaches 90 % (random sequential placement of floes
 3. Shrink each cell about its centroid to its floe's size. A floe's size is its equivalent
    diameter, sqrt(4 A / pi) [m]; the floes are disjoint because each lies inside its own cell.
 4. The number of cells is adjusted until the floes cover ``concentration`` of the area within one
-   percentage point, or of half a mean floe's area in an area too small for that (the number of
-   floes moves in whole floes: one floe of 35 m is 0.4 % of a
+   percentage point, or of half a mean floe's area in an area too small for that; where whole
+   floes jump past the target, every size of the closest field is scaled by a common gain (kept in
+   the size range and its cell) bisected onto it (the number of floes moves in whole floes: one floe of 35 m is 0.4 % of a
    600 m x 400 m area, 0.04 % of seed 003's 1.2 km x 2 km); a floe is never scaled above ``max_fill`` of its cell (a gap between neighbours), which
    sets the highest concentration a field can reach (about 0.95).
 
@@ -169,14 +170,24 @@ def floe_field(*, area, size=(30.0, 40.0), thickness=(2.5, 2.7), concentration: 
         count = max(1, count + step)
         if count in tried:
             break
+    # whole floes jump past the target (a small area): scale the best field's sizes by a common gain,
+    # each kept in the size range and within its cell, and bisect the gain onto the target
+    count = len(best.polygons)
+    lo, hi = 0.8, 1.25
+    for _ in range(30):
+        gain = 0.5 * (lo + hi)
+        field = _field_at(box, count, size, thickness, seed, jitter, max_fill, gain)
+        if abs(concentration - field.concentration) <= CONCENTRATION_TOLERANCE:
+            return field
+        lo, hi = (gain, hi) if field.concentration < concentration else (lo, gain)
     raise ValueError(f"concentration {concentration}: the closest field reached {best.concentration:.3f} "
                      f"(floes are at most {max_fill} of their cells); lower the concentration or the sizes")
 
 
-def _field_at(box, count, size, thickness, seed, jitter, max_fill) -> FloeField:
+def _field_at(box, count, size, thickness, seed, jitter, max_fill, gain: float = 1.0) -> FloeField:
     cells = [c for c in _layout(box, count, jitter, seed) if len(c) >= 3 and polygon_area(c) > 0.0]
     rng = np.random.default_rng(seed + 1)
-    sizes = np.sort(rng.uniform(size[0], size[1], len(cells)))
+    sizes = np.clip(gain * np.sort(rng.uniform(size[0], size[1], len(cells))), size[0], size[1])
     cell_area = np.array([polygon_area(c) for c in cells])
     order = np.argsort(cell_area)  # the largest size to the largest cell
     polygons = [None] * len(cells)

@@ -1,0 +1,46 @@
+"""The mooring-load analysis of `pice plot` (pice/postproc/mooring.py), seed 003's Figs. 10-12.
+
+References: Welch's estimate of a sine of amplitude a and frequency f0 in noise peaks at f0 and its
+integral is the sine's variance a^2 / 2 (Parseval), within 5 % (the Hann window's leakage stays in
+the peak's bins, integrated over); the events of a synthetic load made of known bursts are those
+bursts. A short moored Kulluk run in floes writes mooring_load.png and events.csv.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pice.postproc.mooring import interaction_events, load_spectrum
+
+
+def test_spectrum_of_a_sine_peaks_at_its_frequency_and_holds_its_variance():
+    rng = np.random.default_rng(0)
+    t = np.arange(0.0, 4000.0, 0.5)
+    a, f0 = 3.0e5, 1.0 / 64.0  # [N], [Hz]: a surge-period oscillation of the Kulluk
+    load = 1.0e6 + a * np.sin(2 * np.pi * f0 * t) + 1.0e3 * rng.standard_normal(len(t))
+    f, psd = load_spectrum(t, load, skip=1500.0)
+    assert f[np.argmax(psd)] == pytest.approx(f0, rel=0.1)
+    variance = np.sum(psd) * (f[1] - f[0])
+    assert variance == pytest.approx(0.5 * a * a, rel=0.05)
+
+
+def test_spectrum_needs_enough_rows():
+    t = np.arange(10.0)
+    assert load_spectrum(t, np.ones(10)) is None
+
+
+def test_events_are_the_bursts_above_the_threshold():
+    t = np.arange(0.0, 1000.0, 1.0)
+    ice = np.zeros_like(t)
+    bursts = [(100, 130, 2.0e6), (300, 305, 1.0e6), (311, 320, 0.5e6), (700, 760, 3.0e6)]
+    for lo, hi, peak in bursts:
+        ice[lo:hi + 1] = peak * np.sin(np.pi * (t[lo:hi + 1] - lo) / (hi - lo)) + 1.0
+    mooring = 0.5 * ice
+    events = interaction_events(t, ice, mooring, threshold=0.1, gap=10.0)
+    # the two bursts 6 s apart (< gap) are one event; the others stand alone
+    assert len(events) == 3
+    assert [round(e["ice_max"] / 1e6, 1) for e in events] == [2.0, 1.0, 3.0]
+    assert all(e["mooring_max"] == pytest.approx(0.5 * e["ice_max"]) for e in events)
+    assert events[1]["start"] >= 300 and events[1]["end"] <= 320
+    assert interaction_events(t, ice, mooring, skip=500.0, threshold=0.1)[0]["ice_max"] == pytest.approx(3.0e6, rel=1e-3)
