@@ -24,6 +24,12 @@ stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]); th
 platform.sea.SeaComponents (no components: still water, which costs one test per node) with z up
 from the water's level, and the ``time`` [s] of the forces.
 
+The waves at the nodes: ``node_waves`` gives each node's WAVE_FIELDS (eta [m] over it, particle
+velocity [m/s] and acceleration [m/s^2] at it) at two times in one pass over the sea's components.
+``advance_lines`` takes them once per call, at the nodes' start positions, at its start and end,
+and every sub-step interpolates them linearly in time (docs/waves.md, Cost); ``node_forces`` reads
+them. Still water passes (0, WAVE_FIELDS) arrays and does none of this.
+
 Every function here is a numba kernel: a pure function of arrays and scalars (no MPI, no I/O),
 owned by platform.mooring_lines.MooringLines. A sub-step (``verlet_substep``) is written once; the
 time stepping (``advance_lines``) and the static relaxation (``relax_lines``) both take it.
@@ -35,18 +41,81 @@ import numpy as np
 from numba import njit
 
 from ..kernels import JIT
+from ..kernels.waves import depth_factors
 from .sea import wave_at
 
 FREE, FIXED, PRESCRIBED = 0, 1, 2
+WAVE_FIELDS = 7  # per node: eta [m], u_x, u_y, u_z [m/s], a_x, a_y, a_z [m/s^2]
+
+
+@njit(**JIT)
+def node_waves(sea, x, level, t0, t1, out0, out1):
+    """The sea at every node at times t0 and t1 [s]: out0, out1 (n, WAVE_FIELDS) get eta [m] over
+    (x[i, 0], x[i, 1]) and the particle velocity [m/s] and acceleration [m/s^2] at x[i] (n, 3) [m],
+    its height taken from the water's ``level`` [m] and clipped to [-depth, 0] as in
+    kernels.waves.sea_point, whose sums these are. One pass over the components: the depth factors
+    and the phase's cos and sin at t0 serve t1 too, the phase turned by omega (t1 - t0)."""
+    m = sea.amplitude.shape[0]
+    cw = np.empty(m)
+    sw = np.empty(m)
+    for j in range(m):
+        cw[j] = math.cos(sea.omega[j] * (t1 - t0))
+        sw[j] = math.sin(sea.omega[j] * (t1 - t0))
+    amp, omega, k, direction, phase, depth = sea.amplitude, sea.omega, sea.k, sea.direction, sea.phase, sea.depth
+    for i in range(x.shape[0]):
+        zc = min(x[i, 2] - level, 0.0)
+        if math.isfinite(depth) and zc < -depth:
+            zc = -depth
+        for f in range(WAVE_FIELDS):
+            out0[i, f] = 0.0
+            out1[i, f] = 0.0
+        for j in range(m):
+            c, s, _ = depth_factors(k[j], zc, depth)
+            theta = k[j] * (x[i, 0] * direction[j, 0] + x[i, 1] * direction[j, 1]) - omega[j] * t0 + phase[j]
+            aw, aw2 = amp[j] * omega[j], amp[j] * omega[j] * omega[j]
+            ct, st = math.cos(theta), math.sin(theta)
+            for out in (out0, out1):
+                uh, ah = aw * c * ct, aw2 * c * st
+                out[i, 0] += amp[j] * ct
+                out[i, 1] += uh * direction[j, 0]
+                out[i, 2] += uh * direction[j, 1]
+                out[i, 3] += aw * s * st
+                out[i, 4] += ah * direction[j, 0]
+                out[i, 5] += ah * direction[j, 1]
+                out[i, 6] -= aw2 * s * ct
+                ct, st = ct * cw[j] + st * sw[j], st * cw[j] - ct * sw[j]  # theta - omega (t1 - t0)
+
+
+@njit(**JIT)
+def blend_waves(wave0, wave1, a, out):
+    """out = (1 - a) wave0 + a wave1, (n, WAVE_FIELDS) each: the waves at the fraction a of the
+    interval from wave0's time to wave1's (exactly wave1 at a = 1)."""
+    for i in range(out.shape[0]):
+        for f in range(WAVE_FIELDS):
+            out[i, f] = (1.0 - a) * wave0[i, f] + a * wave1[i, f]
 
 
 @njit(**JIT)
 def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, time, force, tension, added_mass):
+    """``node_forces`` in ``sea`` (SeaComponents) at ``time`` [s], its waves taken at every node
+    (``wave_at``, the sums of kernels.waves.sea_point); still water takes none."""
+    n = x.shape[0] if sea.amplitude.shape[0] > 0 else 0
+    wave = np.empty((n, WAVE_FIELDS))
+    for i in range(n):
+        w = wave_at(sea, x[i, 0], x[i, 1], x[i, 2] - water.level, time)
+        for f in range(WAVE_FIELDS):
+            wave[i, f] = w[f]
+    node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave, force, tension, added_mass)
+
+
+@njit(**JIT)
+def node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave, force, tension, added_mass):
     """Forces on every node [N]; bond tensions [N] stored at the bond's upper node; added mass [kg].
 
     water: LineWater (density [kg/m^3], level [m]); current: (3,) [m/s]; seabed: Seabed (z [m],
-    stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]); sea:
-    SeaComponents at ``time`` [s] (module docstring).
+    stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]); wave: (n,
+    WAVE_FIELDS) the waves at each node (eta [m] over it, particle velocity [m/s], acceleration
+    [m/s^2]; ``node_waves``), or (0, WAVE_FIELDS) in still water.
     """
     n = x.shape[0]
     rho = water.density
@@ -65,7 +134,7 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, sea,
     am = np.zeros(n)
     diam = np.zeros(n)
     length = np.zeros(n)  # line length a node stands for [m]
-    waves = sea.amplitude.shape[0] > 0
+    waves = wave.shape[0] > 0
     volume = np.zeros(n if waves else 0)  # displaced volume a node stands for [m^3] (waves only)
     # axial bonds
     for i in range(n):
@@ -115,7 +184,7 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, sea,
         wet = x[i, 2] <= water.level
         f0, f1, f2 = current[0], current[1], current[2]
         if waves:
-            w = wave_at(sea, x[i, 0], x[i, 1], x[i, 2] - water.level, time)
+            w = wave[i]
             wet = x[i, 2] <= water.level + w[0]
             if wet:
                 # Froude-Krylov rho V a and added mass rho C_a V a_n (normal part); the drag's flow
@@ -188,12 +257,13 @@ def node_tangents(x, prev, out):
 
 
 @njit(**JIT)
-def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, time, force, tension, added_mass,
-                   tangent, fairleads, x_start, x_end, v_fairlead, a, dt):
-    """One velocity-Verlet sub-step of dt [s] ending at ``time`` [s]: half kick, drift of the free
-    nodes, the fairlead nodes placed at (1 - a) x_start + a x_end (n_lines, 3) [m] with velocity
-    v_fairlead [m/s], forces (in ``sea`` at ``time``) and tangents at the new positions, half kick. Empty
-    ``fairleads`` leave every end where it is."""
+def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, wave0, wave1, wave, force, tension,
+                   added_mass, tangent, fairleads, x_start, x_end, v_fairlead, a, dt):
+    """One velocity-Verlet sub-step of dt [s] ending at the fraction ``a`` of its interval: half
+    kick, drift of the free nodes, the fairlead nodes placed at (1 - a) x_start + a x_end (n_lines,
+    3) [m] with velocity v_fairlead [m/s], forces in the waves (1 - a) wave0 + a wave1 (written to
+    ``wave``; (n, WAVE_FIELDS) each, (0, WAVE_FIELDS) in still water) and tangents at the new
+    positions, half kick. Empty ``fairleads`` leave every end where it is."""
     n = x.shape[0]
     accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
     for i in range(n):
@@ -205,7 +275,8 @@ def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, s
         for d in range(3):
             x[f, d] = (1.0 - a) * x_start[j, d] + a * x_end[j, d]
             v[f, d] = v_fairlead[j, d]
-    line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, time, force, tension, added_mass)
+    blend_waves(wave0, wave1, a, wave)
+    node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave, force, tension, added_mass)
     node_tangents(x, prev, tangent)
     accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
 
@@ -213,29 +284,37 @@ def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, s
 @njit(**JIT)
 def advance_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, t_start, force, tension,
                   added_mass, tangent, fairleads, x_start, x_end, v_fairlead, dt, nsub):
-    """nsub velocity-Verlet sub-steps of dt [s] from time t_start [s] (sub-step k ends at t_start +
-    (k + 1) dt, the time of its forces in ``sea``); the fairlead nodes move linearly from x_start
-    to x_end (n_lines, 3) [m] with velocity v_fairlead [m/s]; anchors stay fixed."""
+    """nsub velocity-Verlet sub-steps of dt [s] from time t_start [s]; the fairlead nodes move
+    linearly from x_start to x_end (n_lines, 3) [m] with velocity v_fairlead [m/s]; anchors stay
+    fixed. Sub-step k ends at t_start + (k + 1) dt and takes its forces in ``sea`` then: the waves at
+    the nodes' start positions, taken at t_start and t_start + nsub dt (``node_waves``) and
+    interpolated linearly in time (docs/waves.md, Cost); still water takes none."""
+    n = x.shape[0] if sea.amplitude.shape[0] > 0 else 0
+    wave0 = np.empty((n, WAVE_FIELDS))
+    wave1 = np.empty((n, WAVE_FIELDS))
+    wave = np.empty((n, WAVE_FIELDS))
+    if n > 0:
+        node_waves(sea, x, water.level, t_start, t_start + nsub * dt, wave0, wave1)
     for k in range(nsub):
-        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, t_start + (k + 1) * dt,
-                       force, tension, added_mass, tangent, fairleads, x_start, x_end, v_fairlead, (k + 1.0) / nsub,
-                       dt)
+        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, wave0, wave1, wave, force, tension,
+                       added_mass, tangent, fairleads, x_start, x_end, v_fairlead, (k + 1.0) / nsub, dt)
 
 
 @njit(**JIT)
-def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, force, tension, added_mass,
-                tangent, dt, max_steps, tol):
+def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass, tangent, dt,
+                max_steps, tol):
     """Static equilibrium by kinetic damping (dynamic relaxation): step the lines with fixed ends and
     zero every velocity whenever the kinetic energy has just peaked. Stops when the largest net force
-    on a free node is below ``tol`` [N] or after max_steps. Returns the steps taken. ``sea``: still
-    water (a relaxation has no time)."""
+    on a free node is below ``tol`` [N] or after max_steps. Returns the steps taken. In still water
+    (a relaxation has no time)."""
     n = x.shape[0]
     no_fairleads = np.zeros(0, np.int64)
     no_points = np.zeros((0, 3))
+    no_waves = np.zeros((0, WAVE_FIELDS))
     ke_prev = 0.0
     for step in range(max_steps):
-        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, 0.0, force, tension,
-                       added_mass, tangent, no_fairleads, no_points, no_points, no_points, 1.0, dt)
+        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, no_waves, no_waves, no_waves, force,
+                       tension, added_mass, tangent, no_fairleads, no_points, no_points, no_points, 1.0, dt)
         ke = 0.0
         worst = 0.0
         for i in range(n):

@@ -110,7 +110,9 @@ class MooringLines:
         """Advance by nsub sub-steps of dt [s]; fairlead_x/v (n_lines, 3) are the prescribed
         fairlead positions [m] and velocities [m/s] at the END of the interval (linear in between).
         t_start [s]: the time the interval starts at, for the sea (default: the lines' own ``time``;
-        the platform gives its own clock); ``time`` is t_start + nsub dt after."""
+        the platform gives its own clock); ``time`` is t_start + nsub dt after. In waves the sea is
+        taken once per call, at the nodes' start positions at t_start and t_start + nsub dt, and
+        interpolated linearly over the sub-steps (mooring_line_kernels.advance_lines)."""
         fl = self.fairleads
         x0 = self.x[fl].copy()
         x1 = x0 if fairlead_x is None else np.asarray(fairlead_x, float).reshape(-1, 3)
@@ -134,8 +136,8 @@ class MooringLines:
         budget = MAX_RELAX_NODE_STEPS if max_node_steps is None else max_node_steps
         cap = max(1, min(int(min(max_time / dt, 1e18)), int(budget / len(self.x))))
         steps = relax_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
-                            self.current, self.seabed, still_water(), self.force, self.tension, self.added_mass,
-                            self.tangent, dt, cap, tol)
+                            self.current, self.seabed, self.force, self.tension, self.added_mass, self.tangent, dt,
+                            cap, tol)
         self.current[:] = current
         self.v[:] = 0.0
         self._forces()

@@ -7,9 +7,9 @@ by the hulls), then, once the ice loads of the new pose have been reduced to ran
 acts on the body at that point.
 
 Time: ``time`` [s] is the platform's clock, advanced by ``drift``; the lines' sub-steps run from the
-start of the step (sub-step k of n ending at t + k dt/n) and the bodies' loads are taken at the new
-time, so a sea (``sea``, platform.sea.SeaComponents; None: still water) is evaluated where and when
-each force is (docs/waves.md).
+start of the step (sub-step k of n ending at t + k dt/n, with the sea the lines take at t and t + dt
+interpolated to that time) and the bodies' loads are taken at the new time, so a sea (``sea``,
+platform.sea.SeaComponents; None: still water) is evaluated when each force acts (docs/waves.md).
 """
 
 from __future__ import annotations

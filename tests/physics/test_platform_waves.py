@@ -30,6 +30,7 @@ from pice.physics.waves import Sea
 from pice.platform.build import build_platform, hulls_from_job
 from pice.platform.hull_waves import panel_mesh, wave_loads
 from pice.platform.hulls import box, revolved, semi_submersible, semi_submersible_braces
+from pice.platform.mooring_line_kernels import WAVE_FIELDS, blend_waves, node_waves
 from pice.platform.mooring_lines import LINE_ELEMENT_RECORD, LineWater, MooringLines, Seabed
 from pice.platform.platform import Attachment, MooringGroup, Platform
 from pice.platform.rigid_body import RigidBody
@@ -223,7 +224,10 @@ def test_platform_steps_its_lines_on_its_own_clock():
     """After Platform.drift from t = 5 s the lines' clock is the platform's, and the forces they hold
     are those of the sea at that time (1e-12), not at the start of the step: each sub-step's forces
     are taken at its end time, the last at t + dt. The middle node is held (kind fixed) so that its
-    velocity, and with it the drag, is the same for both evaluations."""
+    velocity, and with it the drag, is the same for both evaluations, and so that the waves the
+    lines take once per step at the nodes' start positions are those at its end position: the last
+    sub-step's interpolation weight is exactly 1, and what is left is the round-off of the phase
+    turned by omega dt in node_waves (~1e-15)."""
     sea = Sea.regular(height=4.0, period=7.0)
     line = straight_line(sea, -3.0)
     line.kind[1] = 1
@@ -243,6 +247,44 @@ def test_platform_steps_its_lines_on_its_own_clock():
     line._forces()
     assert np.abs(held[1] - line.force[1]).max() > 1.0  # [N]: the sea at the start differs
 
+
+
+@pytest.mark.nojit
+def test_line_waves_taken_once_per_step_and_interpolated():
+    """The lines take the waves at their nodes once per platform step of h, at its start and end
+    (node_waves, one pass over the components), and their sub-steps interpolate linearly in time
+    (blend_waves). Against Sea.elevation and Sea.kinematics (the array kernels) for a 4 m, 7 s wave
+    in 30 m of water, at nodes above, in and below the water and under the seabed (clipped): at
+    both ends the sea's values to 1e-12 of each field's largest amplitude (round-off); in between, at a =
+    k/8, within linear interpolation's bound for a harmonic, (omega h)^2 / 8 of the amplitude
+    (h = 0.05 s: 2.5e-4; docs/waves.md, Cost). Amplitude of a field f: hypot(f(t), f(t + T/4))."""
+    period, h, t0, depth = 7.0, 0.05, 2.3, 30.0
+    sea = Sea.regular(height=4.0, period=period, direction_deg=30.0, depth=depth)
+    comps = sea_components(sea)
+    x = np.array([[0.0, 0.0, 1.0], [13.0, -4.0, -0.5], [-20.0, 7.0, -12.0], [5.0, 30.0, -29.0],
+                  [40.0, 2.0, -31.0]])
+    level = 0.5  # the lines' water level [m]; z from it
+    n = len(x)
+    wave0, wave1, blend = np.empty((n, WAVE_FIELDS)), np.empty((n, WAVE_FIELDS)), np.empty((n, WAVE_FIELDS))
+    node_waves(comps, x, level, t0, t0 + h, wave0, wave1)
+
+    def exact(t):
+        pts = x - np.array([0.0, 0.0, level])
+        u, acc, _ = sea.kinematics(pts, t)
+        return np.column_stack([sea.elevation(pts[:, 0], pts[:, 1], t), u, acc])
+
+    amplitude = np.hypot(exact(t0), exact(t0 + period / 4))
+    round_off = 1e-12 * amplitude.max(axis=0)  # per field (u_z and a_z vanish at the seabed)
+    assert (np.abs(wave0 - exact(t0)) <= round_off).all()
+    assert (np.abs(wave1 - exact(t0 + h)) <= round_off).all()
+    bound = (2 * math.pi / period * h) ** 2 / 8
+    worst = 0.0
+    for k in range(1, 8):
+        blend_waves(wave0, wave1, k / 8, blend)
+        error = np.abs(blend - exact(t0 + k / 8 * h))
+        assert (error <= bound * amplitude + round_off).all()
+        worst = max(worst, float((error / np.maximum(amplitude, round_off)).max()))
+    assert worst > 0.1 * bound  # the bound is the error's scale, not far above it
 
 def test_build_platform_floats_the_bodies_in_the_jobs_sea():
     """A job with [waves] and [[bodies]]: build_platform gives the platform, its DEM lines and its
