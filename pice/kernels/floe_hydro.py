@@ -38,17 +38,28 @@ from .waves import sea_point
 
 
 @njit(**JIT)
+def floe_sea(lo, hi, x, amp, omega, k, direction, phase, depth, g, rho_w, t, out):
+    """The undisturbed sea at the centres of mass x of floes lo..hi-1 at time t [s] into out (n, 6): the
+    elevation eta [m], the particle velocity u_x, u_y [m/s] and the acceleration a_x, a_y, a_z [m/s^2]
+    (one sum over the components per floe: kernels/waves.sea_point)."""
+    for i in range(lo, hi):
+        eta, u0, u1, _, a0, a1, a2, _ = sea_point(amp, omega, k, direction, phase, depth, g, rho_w,
+                                                  x[i, 0], x[i, 1], x[i, 2], t)
+        out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4], out[i, 5] = eta, u0, u1, a0, a1, a2
+
+
+@njit(**JIT)
 def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level, rho_w, g, current, skin, form,
-               damping_ratio, sea_amp, sea_omega, sea_k, sea_direction, sea_phase, sea_depth, t, added, force, torque):
+               damping_ratio, wave, added, force, torque):
     """Add the water's forces [N] and torques about each centre [N m] to the floes lo..hi-1; returns the
     total submerged volume [m^3]. omega (n, 3) [rad/s] and the torques in space; rot (n, 3, 3) each
     floe's attitude (body to space, its principal axes); pts, counts: world polyhedra; area:
     water-plane areas [m^2]; inertia (n, 3) principal moments [kg m^2]; current (2,) [m/s]; skin
-    C_w, form C_d [-]; sea_*: the waves' components (physics/waves.Sea; none: still water) at time
-    t [s], whose acceleration drives the Froude-Krylov force and whose particle velocity adds to
-    the current in the drag (module docstring). With waves, ``added`` (n, 3) [kg]: each floe's
-    added mass along x, y, z, times the waves' acceleration at its centre of mass (seed 003 Eq. 11's
-    diffraction force on a small body).
+    C_w, form C_d [-]; ``wave`` (n, 6): the sea at each floe's centre of mass (``floe_sea``: eta, u_x,
+    u_y, a_x, a_y, a_z; an empty array: still water), whose acceleration drives the Froude-Krylov
+    force and whose particle velocity adds to the current in the drag (module docstring). With
+    waves, ``added`` (n, 3) [kg]: each floe's added mass along x, y, z, times the waves'
+    acceleration (seed 003 Eq. 11's diffraction force on a small body).
     """
     up = np.array([0.0, 0.0, 1.0])
     total = 0.0
@@ -57,9 +68,9 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
         # with waves the floe floats on the surface where it is: its buoyancy is cut at level + eta there
         # (module docstring)
         eta = uw0 = uw1 = aw0 = aw1 = aw2 = 0.0
-        if sea_amp.shape[0] > 0:  # the undisturbed sea at the floe's centre of mass (seed 003 Eq. 11), one sum
-            eta, uw0, uw1, _, aw0, aw1, aw2, _ = sea_point(sea_amp, sea_omega, sea_k, sea_direction, sea_phase,
-                                                           sea_depth, g, rho_w, x[i, 0], x[i, 1], x[i, 2], t)
+        waves = wave.shape[0] > 0
+        if waves:  # the undisturbed sea at the floe's centre of mass (seed 003 Eq. 11)
+            eta, uw0, uw1, aw0, aw1, aw2 = wave[i, 0], wave[i, 1], wave[i, 2], wave[i, 3], wave[i, 4], wave[i, 5]
         sp, sc, _ = clip(pts[i], counts[i], side, up, level + eta, 1)
         vol, cob = volume_centroid(sp, sc)
         force[i, 2] -= mass[i] * g
@@ -81,7 +92,7 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
             for e in range(3):
                 torque[i, e] += R[e, a] * tb
         flow0, flow1 = current[0], current[1]
-        if sea_amp.shape[0] > 0:
+        if waves:
             flow0 += uw0
             flow1 += uw1
             # Froude-Krylov rho V a and the diffraction term A a (seed 003 Eq. 11, a small body)

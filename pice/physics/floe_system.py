@@ -79,7 +79,7 @@ class FloeSystem:
         lo, hi = self.lo, self.hi
         f.force[:] = 0.0
         f.torque[:] = 0.0
-        f.water_loads(lo, hi, pts, counts, omega)
+        f.water_loads(lo, hi, pts, counts, omega, dt)
         structure = [f.structure_records(k, lo, hi, pts, counts, omega, dt) for k in range(len(f.structures))]
         pairs, npair, nplastic, _ = f.pair_records(lo, hi, pts, counts, omega, dt)
         nplastic += sum(r[2] for r in structure)
@@ -139,6 +139,11 @@ class FloeSystem:
             out[name] = rows.reshape(a.shape).astype(a.dtype)
         out["step_count"] = np.array(f.step_count)
         out["body_loads"] = self.body_loads.copy()
+        if f.wave_ends is not None:  # the sea at the floes at the current interval's ends (Floes.sea_at_floes)
+            k, ends = f.wave_ends
+            rows = [self.comm.allgather_doubles(ends[e, self.lo:self.hi].ravel())[0] for e in range(2)]
+            out["wave_interval"] = np.array(k)
+            out["wave_ends"] = np.array(rows).reshape(ends.shape)
         return out
 
     def set_state(self, state: dict, where: str) -> None:
@@ -151,6 +156,7 @@ class FloeSystem:
             getattr(f, name)[...] = state[name]
         f.step_count = int(state["step_count"])
         self.body_loads[...] = state["body_loads"]
+        f.wave_ends = (int(state["wave_interval"]), np.array(state["wave_ends"])) if "wave_interval" in state else None
 
     def snapshot_arrays(self, first: bool) -> dict:
         """floe_pose (n, 7): x [m], q; floe_velocity (n, 3) [m/s]; the first snapshot also holds the

@@ -6,13 +6,15 @@ records, gathered in rank order (physics/floe_system.py). The forces are then su
 order on any rank count, so the contract here is stricter than the level ice's round-off bound:
 the series (floe contacts, their kinetic energy, the ice load on the structure, the walls' load)
 agree bit for bit. A restart from a 1-rank checkpoint continued on 2 ranks joins the 1-rank run
-bit for bit too.
+bit for bit too (with waves: the sea at the floes, taken at the ends of intervals of steps and
+interpolated, is checkpointed with them).
 """
 
 from __future__ import annotations
 
 import h5py
 import numpy as np
+import pytest
 from launch import pice_run, run_cmd
 from scenes import floe_job
 
@@ -26,9 +28,10 @@ def _series(path):
         return s["step"][:], {k: s[k][:] for k in KEYS}
 
 
-def test_floes_agree_bit_for_bit_on_one_and_two_ranks(tmp_path):
+@pytest.mark.parametrize("waves", [False, True], ids=["still", "waves"])
+def test_floes_agree_bit_for_bit_on_one_and_two_ranks(tmp_path, waves):
     job = tmp_path / "floes.toml"
-    job.write_text(floe_job(duration=6.0, checkpoint_every=3.0))
+    job.write_text(floe_job(duration=6.0, checkpoint_every=3.0, waves=waves))
     run_cmd(pice_run(job, tmp_path / "r1.h5", 1))
     run_cmd(pice_run(job, tmp_path / "r2.h5", 2))
     steps1, one = _series(tmp_path / "r1.h5")
@@ -41,7 +44,7 @@ def test_floes_agree_bit_for_bit_on_one_and_two_ranks(tmp_path):
 
     # half the run on 1 rank, the rest restarted on 2 from its checkpoint: the same rows
     half = tmp_path / "half.toml"
-    half.write_text(floe_job(duration=3.0, checkpoint_every=3.0))
+    half.write_text(floe_job(duration=3.0, checkpoint_every=3.0, waves=waves))
     run_cmd(pice_run(half, tmp_path / "h.h5", 1))
     run_cmd(pice_run(job, tmp_path / "h.h5", 2, "--restart", tmp_path / "h.ckpt.h5"))
     steps_h, cont = _series(tmp_path / "h.h5")

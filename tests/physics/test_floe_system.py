@@ -114,7 +114,7 @@ def test_the_structures_take_what_the_floes_lose():
             saved = floes.force.copy(), floes.torque.copy()
             floes.force[:], floes.torque[:] = 0.0, 0.0
             pts, counts = floes.world()
-            floes.water_loads(0, system.n, pts, counts, floes.omega)
+            floes.water_loads(0, system.n, pts, counts, floes.omega, dt)
             water = floes.force.sum(axis=0)
             floes.force[:], floes.torque[:] = saved
             structures = system.body_loads[0, :3] + system.wall_loads()[:, :3].sum(axis=0)
