@@ -28,10 +28,13 @@ def _summary_lines(summary: dict, job) -> list[str]:
     xdmf = out.with_suffix(".xdmf")
     lines = [f"pice: wrote {out}" + (f" (ParaView: {xdmf})" if xdmf.is_file() else ""),
              f"  simulated     {summary['steps']:,} steps to t = {summary['time']:.4g} s, "
-             f"{summary['elements']:,} elements, {summary['ranks']} rank(s)",
+             f"{summary['elements']:,} elements" + (f", {summary['floes']:,} floes" if summary.get("floes") else "")
+             + f", {summary['ranks']} rank(s)",
              f"  wall time     {summary['wall_time']:.1f} s, "
-             f"{summary['particle_steps_per_second']:.3g} particle-steps/s",
-             f"  broken bonds  {summary['broken_bonds']:,}"]
+             + (f"{summary['particle_steps_per_second']:.3g} particle-steps/s" if summary["elements"] else
+                f"{summary.get('floe_steps_per_second', 0.0):.3g} floe-steps/s")]
+    if summary["elements"]:
+        lines.append(f"  broken bonds  {summary['broken_bonds']:,}")
     import numpy as np
 
     from .io.errors import RunFileError

@@ -145,6 +145,8 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress=sys
                 particle_steps_per_second=elements * (sim.c.step - step0) / max(elapsed, 1e-9),
                 broken_bonds=broken, elements=elements, ranks=comm.size, rank=comm.rank,
                 floes=sim.floes.n if sim.floes is not None else 0,
+                floe_steps_per_second=(sim.floes.n if sim.floes is not None else 0) * (sim.c.step - step0)
+                / max(elapsed, 1e-9),
                 mooring_node_updates=comm.bcast(_node_updates(sim) if comm.rank == 0 else None))
 
 
