@@ -32,7 +32,8 @@ def _summary_lines(summary: dict, job) -> list[str]:
              + f", {summary['ranks']} rank(s)",
              f"  wall time     {summary['wall_time']:.1f} s, "
              + (f"{summary['particle_steps_per_second']:.3g} particle-steps/s" if summary["elements"] else
-                f"{summary.get('floe_steps_per_second', 0.0):.3g} floe-steps/s")]
+                f"{summary.get('floe_steps_per_second', 0.0):.3g} floe-steps/s" if summary.get("floes") else
+                f"{summary['steps'] / max(summary['wall_time'], 1e-9):.3g} steps/s")]
     if summary["elements"]:
         lines.append(f"  broken bonds  {summary['broken_bonds']:,}")
     import numpy as np
