@@ -26,7 +26,17 @@ buoyancy rho_w g dV acts at the section's centroid, and the Froude-Krylov load o
 rho_w dV a (a: the undisturbed particle acceleration at the axis point; -grad p_d = rho_w a in
 linear theory), adds to it.
 
-Kernels are pure numba functions of arrays, scalars and the SeaComponents named tuple.
+The sea at the points: the kernels read it per point, (eta, p_d) at every panel corner and (eta,
+u, a) at every slice's axis point, not the sea itself. ``wave_loads`` sums it there at its time
+(platform.wave_intervals.corner_waves and node_waves) or takes it from the platform, which sums it
+at the ends of intervals of several steps at the points' places at the interval's start and
+interpolates it linearly in time (platform.wave_intervals; docs/waves.md, Cost). Either way the
+panels are cut, and the hydrostatic pressure taken, at the body's pose of the moment: only the
+per-corner sums are interpolated, never the force. Every corner gets its sea, so a waterline
+triangle reaching above the highest possible surface still takes the mean of its three corners'
+elevations.
+
+Kernels are pure numba functions of arrays and scalars.
 """
 
 from __future__ import annotations
@@ -39,7 +49,7 @@ from numba import njit
 from ..kernels import JIT
 from ..kernels.geometry import rotation_matrix
 from .hull_buoyancy import brace_axis, slice_section, transform
-from .sea import wave_at
+from .wave_intervals import CORNER_FIELDS, WAVE_FIELDS, corner_waves, node_waves
 
 
 @njit(**JIT)
@@ -58,25 +68,19 @@ def _add_panel(a, b, c, pa, pb, pc, centre, force, moment):
 
 
 @njit(**JIT)
-def hull_wave_pressure(vertices, triangles, level, sea, t, rho_w, g, centre):
+def hull_wave_pressure(vertices, triangles, level, reach, corner, rho_w, g, centre):
     """(force (3,) [N], moment about ``centre`` (3,) [N m]) of the water pressure, hydrostatic and
     undisturbed dynamic, on the hull mesh below the wave surface (module docstring).
 
     vertices: (nv, 3) space frame [m]; triangles: (nt, 3) outward; level: still water level [m];
-    sea: SeaComponents; t: time [s]; rho_w [kg/m^3]; g [m/s^2]; centre (3,) [m] (the CG).
+    reach: the highest the surface can rise [m], level + the sum of the amplitudes (a triangle whose
+    corners all lie above it is dry); corner: (nv, CORNER_FIELDS) the sea at each vertex, eta [m]
+    over it and p_d [Pa] at it (wave_intervals.corner_waves, or interpolated in time between two of
+    its sums); rho_w [kg/m^3]; g [m/s^2]; centre (3,) [m] (the CG).
     """
-    bound = 0.0  # no surface rises above level + sum |a|: corners higher up are never wet
-    for j in range(sea.amplitude.shape[0]):
-        bound += abs(sea.amplitude[j])
-    nv = vertices.shape[0]
-    eta = np.zeros(nv)
-    pd = np.zeros(nv)
-    near = vertices[:, 2] <= level + bound
-    for i in range(nv):
-        if near[i]:
-            w = wave_at(sea, vertices[i, 0], vertices[i, 1], vertices[i, 2] - level, t)
-            eta[i] = w[0]
-            pd[i] = w[7]
+    eta = corner[:, 0]
+    pd = corner[:, 1]
+    near = vertices[:, 2] <= reach
     force = np.zeros(3)
     moment = np.zeros(3)
     poly = np.empty((4, 3))
@@ -107,11 +111,25 @@ def hull_wave_pressure(vertices, triangles, level, sea, t, rho_w, g, centre):
 
 
 @njit(**JIT)
-def brace_wave_loads(braces, R, position, level, slices, sea, t, rho_w, g):
+def brace_points(braces, R, position, slices):
+    """(k slices, 3) [m] the axis points of the braces' slices (``brace_wave_loads``), braces placed
+    by R (3, 3) and position [m], brace after brace."""
+    out = np.empty((braces.shape[0] * slices, 3))
+    for kb in range(braces.shape[0]):
+        p0 = R @ braces[kb]["p0"] + position
+        p1 = R @ braces[kb]["p1"] + position
+        for k in range(slices):
+            out[kb * slices + k] = p0 + (k + 0.5) / slices * (p1 - p0)
+    return out
+
+
+@njit(**JIT)
+def brace_wave_loads(braces, R, position, level, slices, wave, rho_w, g):
     """(force (3,) [N], moment about ``position`` (3,) [N m]) of buoyancy and Froude-Krylov load on
     the braces (k,) BRACE_RECORD of the body frame, placed by R (3, 3) and position [m]: each slice
     cut at level + eta over its axis point, rho_w g dV up at its section's centroid plus rho_w dV a
-    (module docstring)."""
+    (module docstring). wave: (k slices, WAVE_FIELDS) the sea at the slices' axis points
+    (``brace_points``), eta [m] and the acceleration [m/s^2] read."""
     force = np.zeros(3)
     moment = np.zeros(3)
     for kb in range(braces.shape[0]):
@@ -121,7 +139,7 @@ def brace_wave_loads(braces, R, position, level, slices, sea, t, rho_w, g):
         dl = length / slices
         for k in range(slices):
             c = p0 + (k + 0.5) / slices * axis
-            w = wave_at(sea, c[0], c[1], c[2] - level, t)
+            w = wave[kb * slices + k]
             area, drop = slice_section(c[2] - (level + w[0]), cos_t, braces[kb]["radius"])
             if area <= 0.0:
                 continue
@@ -159,15 +177,41 @@ def panel_mesh(vertices, triangles, max_edge: float) -> tuple[np.ndarray, np.nda
     return np.asarray(out_v, float), np.asarray(out_t, np.int64)
 
 
-def wave_loads(body, sea, t: float, *, rho_w: float, g: float, level: float) -> tuple[np.ndarray, np.ndarray]:
-    """(force [N], moment about the CG [N m]) of the water pressure on a RigidBody's wave panels
-    (body.wave_panels) and braces at its pose in ``sea`` (SeaComponents) at time t [s]."""
+def wave_points(body) -> dict:
+    """The points whose sea a RigidBody's wave loads read, at its pose: {"corners": ((nv, 3) [m] its
+    wave panels' vertices, CORNER_FIELDS), "slices": ((k, 3) [m] its braces' slice axis points,
+    WAVE_FIELDS)} (platform.wave_intervals sums the sea there)."""
     R = rotation_matrix(body.q)
+    x = np.asarray(body.x, float)
+    v_b, _ = body.wave_panels
+    return {"corners": (transform(v_b, R, x), CORNER_FIELDS),
+            "slices": (brace_points(body.braces, R, x, int(body.brace_slices)), WAVE_FIELDS)}
+
+
+def wave_loads(body, sea, t: float, *, rho_w: float, g: float, level: float,
+               waves=None) -> tuple[np.ndarray, np.ndarray]:
+    """(force [N], moment about the CG [N m]) of the water pressure on a RigidBody's wave panels
+    (body.wave_panels) and braces at its pose in ``sea`` (SeaComponents) at time t [s].
+
+    waves: {"corners": (nv, CORNER_FIELDS), "slices": (k, WAVE_FIELDS)} the sea at the points of
+    ``wave_points`` (interpolated in time by the platform, platform.wave_intervals; the cut and the
+    hydrostatic pressure are still taken at the pose of the moment); None: summed here at time t,
+    at the pose."""
+    R = rotation_matrix(body.q)
+    x = np.asarray(body.x, float)
+    if waves is None:
+        waves = {}
+        for name, (pts, fields) in wave_points(body).items():
+            now = np.empty((len(pts), fields))
+            (corner_waves if fields == CORNER_FIELDS else node_waves)(sea, pts, float(level), float(t), float(t),
+                                                                      now, np.empty_like(now))
+            waves[name] = now
     v_b, t_b = body.wave_panels
-    f, m = hull_wave_pressure(transform(v_b, R, body.x), t_b, float(level), sea, float(t), float(rho_w), float(g),
-                              np.asarray(body.x, float))
+    reach = float(level) + float(np.abs(sea.amplitude).sum())
+    f, m = hull_wave_pressure(transform(v_b, R, x), t_b, float(level), reach, waves["corners"], float(rho_w),
+                              float(g), x)
     if len(body.braces):
-        fb, mb = brace_wave_loads(body.braces, R, np.asarray(body.x, float), float(level), int(body.brace_slices),
-                                  sea, float(t), float(rho_w), float(g))
+        fb, mb = brace_wave_loads(body.braces, R, x, float(level), int(body.brace_slices), waves["slices"],
+                                  float(rho_w), float(g))
         f, m = f + fb, m + mb
     return f, m

@@ -24,11 +24,13 @@ stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]); th
 platform.sea.SeaComponents (no components: still water, which costs one test per node) with z up
 from the water's level, and the ``time`` [s] of the forces.
 
-The waves at the nodes: ``node_waves`` gives each node's WAVE_FIELDS (eta [m] over it, particle
-velocity [m/s] and acceleration [m/s^2] at it) at two times in one pass over the sea's components.
-``advance_lines`` takes them once per call, at the nodes' start positions, at its start and end,
-and every sub-step interpolates them linearly in time (docs/waves.md, Cost); ``node_forces`` reads
-them. Still water passes (0, WAVE_FIELDS) arrays and does none of this.
+The waves at the nodes: ``node_waves`` (platform.wave_intervals) gives each node's WAVE_FIELDS (eta
+[m] over it, particle velocity [m/s] and acceleration [m/s^2] at it) at two times in one pass over
+the sea's components. The platform takes them at the ends of intervals of several platform steps,
+at the nodes' places at the interval's start (platform.wave_intervals.WaveIntervals); ``advance_lines``
+gets the two ends and where its own start and end lie between them, and every sub-step
+interpolates linearly in time (docs/waves.md, Cost); ``node_forces`` reads the result. Still water
+passes (0, WAVE_FIELDS) arrays and does none of this.
 
 Every function here is a numba kernel: a pure function of arrays and scalars (no MPI, no I/O),
 owned by platform.mooring_lines.MooringLines. A sub-step (``verlet_substep``) is written once; the
@@ -41,58 +43,10 @@ import numpy as np
 from numba import njit
 
 from ..kernels import JIT
-from ..kernels.waves import depth_factors
 from .sea import wave_at
+from .wave_intervals import WAVE_FIELDS, blend_waves
 
 FREE, FIXED, PRESCRIBED = 0, 1, 2
-WAVE_FIELDS = 7  # per node: eta [m], u_x, u_y, u_z [m/s], a_x, a_y, a_z [m/s^2]
-
-
-@njit(**JIT)
-def node_waves(sea, x, level, t0, t1, out0, out1):
-    """The sea at every node at times t0 and t1 [s]: out0, out1 (n, WAVE_FIELDS) get eta [m] over
-    (x[i, 0], x[i, 1]) and the particle velocity [m/s] and acceleration [m/s^2] at x[i] (n, 3) [m],
-    its height taken from the water's ``level`` [m] and clipped to [-depth, 0] as in
-    kernels.waves.sea_point, whose sums these are. One pass over the components: the depth factors
-    and the phase's cos and sin at t0 serve t1 too, the phase turned by omega (t1 - t0)."""
-    m = sea.amplitude.shape[0]
-    cw = np.empty(m)
-    sw = np.empty(m)
-    for j in range(m):
-        cw[j] = math.cos(sea.omega[j] * (t1 - t0))
-        sw[j] = math.sin(sea.omega[j] * (t1 - t0))
-    amp, omega, k, direction, phase, depth = sea.amplitude, sea.omega, sea.k, sea.direction, sea.phase, sea.depth
-    for i in range(x.shape[0]):
-        zc = min(x[i, 2] - level, 0.0)
-        if math.isfinite(depth) and zc < -depth:
-            zc = -depth
-        for f in range(WAVE_FIELDS):
-            out0[i, f] = 0.0
-            out1[i, f] = 0.0
-        for j in range(m):
-            c, s, _ = depth_factors(k[j], zc, depth)
-            theta = k[j] * (x[i, 0] * direction[j, 0] + x[i, 1] * direction[j, 1]) - omega[j] * t0 + phase[j]
-            aw, aw2 = amp[j] * omega[j], amp[j] * omega[j] * omega[j]
-            ct, st = math.cos(theta), math.sin(theta)
-            for out in (out0, out1):
-                uh, ah = aw * c * ct, aw2 * c * st
-                out[i, 0] += amp[j] * ct
-                out[i, 1] += uh * direction[j, 0]
-                out[i, 2] += uh * direction[j, 1]
-                out[i, 3] += aw * s * st
-                out[i, 4] += ah * direction[j, 0]
-                out[i, 5] += ah * direction[j, 1]
-                out[i, 6] -= aw2 * s * ct
-                ct, st = ct * cw[j] + st * sw[j], st * cw[j] - ct * sw[j]  # theta - omega (t1 - t0)
-
-
-@njit(**JIT)
-def blend_waves(wave0, wave1, a, out):
-    """out = (1 - a) wave0 + a wave1, (n, WAVE_FIELDS) each: the waves at the fraction a of the
-    interval from wave0's time to wave1's (exactly wave1 at a = 1)."""
-    for i in range(out.shape[0]):
-        for f in range(WAVE_FIELDS):
-            out[i, f] = (1.0 - a) * wave0[i, f] + a * wave1[i, f]
 
 
 @njit(**JIT)
@@ -257,13 +211,13 @@ def node_tangents(x, prev, out):
 
 
 @njit(**JIT)
-def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, wave0, wave1, wave, force, tension,
-                   added_mass, tangent, fairleads, x_start, x_end, v_fairlead, a, dt):
-    """One velocity-Verlet sub-step of dt [s] ending at the fraction ``a`` of its interval: half
-    kick, drift of the free nodes, the fairlead nodes placed at (1 - a) x_start + a x_end (n_lines,
-    3) [m] with velocity v_fairlead [m/s], forces in the waves (1 - a) wave0 + a wave1 (written to
-    ``wave``; (n, WAVE_FIELDS) each, (0, WAVE_FIELDS) in still water) and tangents at the new
-    positions, half kick. Empty ``fairleads`` leave every end where it is."""
+def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, wave0, wave1, wave, wave_a, force,
+                   tension, added_mass, tangent, fairleads, x_start, x_end, v_fairlead, a, dt):
+    """One velocity-Verlet sub-step of dt [s] ending at the fraction ``a`` of its call's interval:
+    half kick, drift of the free nodes, the fairlead nodes placed at (1 - a) x_start + a x_end
+    (n_lines, 3) [m] with velocity v_fairlead [m/s], forces in the waves (1 - wave_a) wave0 + wave_a
+    wave1 (written to ``wave``; (n, WAVE_FIELDS) each, (0, WAVE_FIELDS) in still water) and tangents
+    at the new positions, half kick. Empty ``fairleads`` leave every end where it is."""
     n = x.shape[0]
     accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
     for i in range(n):
@@ -275,29 +229,27 @@ def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, w
         for d in range(3):
             x[f, d] = (1.0 - a) * x_start[j, d] + a * x_end[j, d]
             v[f, d] = v_fairlead[j, d]
-    blend_waves(wave0, wave1, a, wave)
+    blend_waves(wave0, wave1, wave_a, wave)
     node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave, force, tension, added_mass)
     node_tangents(x, prev, tangent)
     accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
 
 
 @njit(**JIT)
-def advance_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, t_start, force, tension,
+def advance_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, wave0, wave1, a0, a1, force, tension,
                   added_mass, tangent, fairleads, x_start, x_end, v_fairlead, dt, nsub):
-    """nsub velocity-Verlet sub-steps of dt [s] from time t_start [s]; the fairlead nodes move
-    linearly from x_start to x_end (n_lines, 3) [m] with velocity v_fairlead [m/s]; anchors stay
-    fixed. Sub-step k ends at t_start + (k + 1) dt and takes its forces in ``sea`` then: the waves at
-    the nodes' start positions, taken at t_start and t_start + nsub dt (``node_waves``) and
-    interpolated linearly in time (docs/waves.md, Cost); still water takes none."""
-    n = x.shape[0] if sea.amplitude.shape[0] > 0 else 0
-    wave0 = np.empty((n, WAVE_FIELDS))
-    wave1 = np.empty((n, WAVE_FIELDS))
-    wave = np.empty((n, WAVE_FIELDS))
-    if n > 0:
-        node_waves(sea, x, water.level, t_start, t_start + nsub * dt, wave0, wave1)
+    """nsub velocity-Verlet sub-steps of dt [s]; the fairlead nodes move linearly from x_start to
+    x_end (n_lines, 3) [m] with velocity v_fairlead [m/s]; anchors stay fixed. The waves: wave0 and
+    wave1 (n, WAVE_FIELDS) are the sea at the nodes at the two ends of an interval (``node_waves``)
+    and this call runs from the fraction a0 of it to a1; sub-step k of nsub takes its forces in the
+    sea interpolated linearly in time to its end, a0 + (k + 1) / nsub (a1 - a0) (docs/waves.md,
+    Cost). Still water: (0, WAVE_FIELDS) arrays."""
+    wave = np.empty((wave0.shape[0], WAVE_FIELDS))
     for k in range(nsub):
-        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, wave0, wave1, wave, force, tension,
-                       added_mass, tangent, fairleads, x_start, x_end, v_fairlead, (k + 1.0) / nsub, dt)
+        a = (k + 1.0) / nsub
+        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, wave0, wave1, wave,
+                       a0 + a * (a1 - a0), force, tension, added_mass, tangent, fairleads, x_start, x_end,
+                       v_fairlead, a, dt)
 
 
 @njit(**JIT)
@@ -313,8 +265,8 @@ def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
     no_waves = np.zeros((0, WAVE_FIELDS))
     ke_prev = 0.0
     for step in range(max_steps):
-        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, no_waves, no_waves, no_waves, force,
-                       tension, added_mass, tangent, no_fairleads, no_points, no_points, no_points, 1.0, dt)
+        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, no_waves, no_waves, no_waves, 1.0,
+                       force, tension, added_mass, tangent, no_fairleads, no_points, no_points, no_points, 1.0, dt)
         ke = 0.0
         worst = 0.0
         for i in range(n):

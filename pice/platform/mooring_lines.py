@@ -22,6 +22,7 @@ from .catenary import Segment, profile, solve_line
 from .sea import SeaComponents, still_water
 from .mooring_line_kernels import (FIXED, FREE, PRESCRIBED, advance_lines, line_energies, line_forces, node_tangents,
                                    relax_lines)
+from .wave_intervals import WAVE_FIELDS, node_waves
 
 # One element (bond) of a DEM line: axial stiffness ea [N], unstretched length l0 [m], hydrodynamic
 # diameter D [m], wet_weight [N/m], the Morison coefficients drag_normal C_dn, drag_tangential C_dt
@@ -106,21 +107,33 @@ class MooringLines:
         zeta = float(max(self.props["damping_ratio"].max(), self.seabed.damping_ratio))
         return 2.0 / math.sqrt(omega2) * (math.sqrt(1 + zeta * zeta) - zeta)
 
-    def advance(self, dt: float, nsub: int, fairlead_x=None, fairlead_v=None, *, t_start: float | None = None) -> None:
+    def advance(self, dt: float, nsub: int, fairlead_x=None, fairlead_v=None, *, t_start: float | None = None,
+                waves=None) -> None:
         """Advance by nsub sub-steps of dt [s]; fairlead_x/v (n_lines, 3) are the prescribed
         fairlead positions [m] and velocities [m/s] at the END of the interval (linear in between).
-        t_start [s]: the time the interval starts at, for the sea (default: the lines' own ``time``;
-        the platform gives its own clock); ``time`` is t_start + nsub dt after. In waves the sea is
-        taken once per call, at the nodes' start positions at t_start and t_start + nsub dt, and
-        interpolated linearly over the sub-steps (mooring_line_kernels.advance_lines)."""
+        t_start [s]: the time the interval starts at (default: the lines' own ``time``; the platform
+        gives its own clock); ``time`` is t_start + nsub dt after.
+
+        In waves the sub-steps interpolate the sea at the nodes linearly in time between two ends
+        (mooring_line_kernels.advance_lines): ``waves`` = (wave0, wave1, a0, a1), the sea at the nodes
+        (n, WAVE_FIELDS) at the two ends of an interval and the fractions of it this call runs from
+        and to (the platform's platform.wave_intervals.WaveIntervals); None: the sea taken here, at
+        the nodes' start positions at t_start and t_start + nsub dt (a0 = 0, a1 = 1)."""
         fl = self.fairleads
         x0 = self.x[fl].copy()
         x1 = x0 if fairlead_x is None else np.asarray(fairlead_x, float).reshape(-1, 3)
         v1 = self.v[fl].copy() if fairlead_v is None else np.asarray(fairlead_v, float).reshape(-1, 3)
         t0 = self.time if t_start is None else float(t_start)
+        if waves is not None:
+            wave0, wave1, a0, a1 = waves
+        else:
+            n = len(self.x) if self.sea.amplitude.shape[0] > 0 else 0
+            wave0, wave1, a0, a1 = np.empty((n, WAVE_FIELDS)), np.empty((n, WAVE_FIELDS)), 0.0, 1.0
+            if n > 0:
+                node_waves(self.sea, self.x, self.water.level, t0, t0 + nsub * dt, wave0, wave1)
         advance_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
-                      self.current, self.seabed, self.sea, t0, self.force, self.tension, self.added_mass,
-                      self.tangent, fl, x0, x1, v1, dt, nsub)
+                      self.current, self.seabed, wave0, wave1, float(a0), float(a1), self.force, self.tension,
+                      self.added_mass, self.tangent, fl, x0, x1, v1, dt, nsub)
         self.time = t0 + dt * nsub
 
     def relax(self, *, tol: float = 1.0, max_time: float = 600.0, max_node_steps: float | None = None) -> int:

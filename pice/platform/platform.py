@@ -7,9 +7,13 @@ by the hulls), then, once the ice loads of the new pose have been reduced to ran
 acts on the body at that point.
 
 Time: ``time`` [s] is the platform's clock, advanced by ``drift``; the lines' sub-steps run from the
-start of the step (sub-step k of n ending at t + k dt/n, with the sea the lines take at t and t + dt
-interpolated to that time) and the bodies' loads are taken at the new time, so a sea (``sea``,
-platform.sea.SeaComponents; None: still water) is evaluated when each force acts (docs/waves.md).
+start of the step (sub-step k of n ending at t + k dt/n) and the bodies' loads are taken at the new
+time, so a sea (``sea``, platform.sea.SeaComponents; None: still water) is felt when each force
+acts (docs/waves.md). In waves, ``wave_intervals`` (platform.wave_intervals.WaveIntervals) sums
+the sea at the line nodes, the hull panels' corners and the brace slices at the two ends of
+intervals of N platform steps (N dt ~ WAVE_INTERVAL), at their places at the interval's start; the
+lines' sub-steps and the bodies' loads interpolate those sums linearly to their own times. The
+interval and its ends are part of ``state``, so a restart continues bit for bit.
 """
 
 from __future__ import annotations
@@ -20,8 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .attachment_kernels import add_line_pull, fairlead_kinematics
+from .hull_waves import wave_points
 from .rigid_body import RigidBody
 from .sea import sea_components
+from .wave_intervals import WAVE_FIELDS, WaveIntervals
 
 
 @dataclass
@@ -82,6 +88,8 @@ class Platform:
         steps = [0.5 * grp.lines.stable_step() for grp in self.groups]
         self.line_dt = min(steps) if steps else math.inf
         self.time = 0.0
+        # in waves: the sea at the platform's points at the ends of intervals of steps (None: still water)
+        self.wave_intervals = WaveIntervals(self.sea) if self.sea is not None else None
         self.ice = np.zeros((len(bodies), 6))
         self.mooring_force = np.zeros((len(bodies), 3))  # pull of all lines on each body [N]
 
@@ -119,7 +127,12 @@ class Platform:
             b.kick(half_dt, self.time)
 
     def drift(self, dt: float) -> None:
-        """Move the bodies by dt and sub-step the lines with their fairleads following the hulls."""
+        """Move the bodies by dt and sub-step the lines with their fairleads following the hulls. In
+        waves the sea's sums are taken first when this step starts an interval (``wave_points``, at
+        the poses and nodes of now), and the lines interpolate them over the step."""
+        waves = self.wave_intervals
+        if waves is not None:
+            waves.begin_step(dt, self.time, self.wave_points)
         for b in self.bodies:
             b.drift(dt)
         start = self.time
@@ -127,7 +140,38 @@ class Platform:
         for k, grp in enumerate(self.groups):
             x, v = self.fairlead_positions(k)
             nsub = max(1, int(math.ceil(dt / self.line_dt - 1e-12)))
-            grp.lines.advance(dt / nsub, nsub, x, v, t_start=start)
+            if waves is not None and f"group{k}" in waves.ends:
+                ends = waves.ends[f"group{k}"]
+                grp.lines.advance(dt / nsub, nsub, x, v, t_start=start,
+                                  waves=(ends[0], ends[1], waves.fraction(waves.step), waves.fraction(waves.step + 1)))
+            else:
+                grp.lines.advance(dt / nsub, nsub, x, v, t_start=start)
+        if waves is not None:
+            waves.step += 1
+
+    def wave_points(self) -> dict:
+        """The points whose sea the platform sums (platform.wave_intervals), at the poses of now:
+        "group<k>" the nodes of DEM line group k, "body<k>/corners" and "body<k>/slices" the wave
+        panels' vertices and the brace slices of free body k (hull_waves.wave_points):
+        {name: (x (n, 3) [m], fields, level [m])}."""
+        out = {}
+        for k, grp in enumerate(self.groups):
+            if hasattr(grp.lines, "sea"):  # DEM lines (quasi-static ones feel no waves)
+                out[f"group{k}"] = (grp.lines.x, WAVE_FIELDS, grp.lines.water.level)
+        for k, b in enumerate(self.bodies):
+            if b.free:
+                for name, (x, fields) in wave_points(b).items():
+                    out[f"body{k}/{name}"] = (x, fields, self.level)
+        return out
+
+    def body_waves(self, k: int) -> dict | None:
+        """The sea at free body k's wave points now, interpolated in the held interval
+        ({"corners": ..., "slices": ...}, hull_waves.wave_loads); None when no interval holds this
+        step (the loads at t = 0, before the first step): the body sums it itself."""
+        waves = self.wave_intervals
+        if waves is None or waves.step is None or not waves.holds(waves.step) or f"body{k}/corners" not in waves.ends:
+            return None
+        return {name: waves.at(f"body{k}/{name}", waves.step) for name in ("corners", "slices")}
 
     def loads(self, ice: np.ndarray | None = None) -> None:
         """Total force and moment on every body: ice (n_bodies, 6, reduced from all ranks), water,
@@ -138,7 +182,7 @@ class Platform:
             if not b.free:  # a prescribed body moves as told: its loads drive nothing (the ice load
                 continue    # and the lines' pull are reported from self.ice and the lines)
             f, m = b.hydro_loads(rho_w=self.rho_w, g=self.g, level=self.level, current=self.current, sea=self.sea,
-                                 t=self.time)
+                                 t=self.time, waves=self.body_waves(k))
             b.force = f + self.ice[k, :3]
             b.torque = m + self.ice[k, 3:]
         n = len(self.bodies)
@@ -201,7 +245,8 @@ class Platform:
     _BODY_STATE = ("x", "v", "q", "L", "force", "torque")
 
     def state(self) -> dict[str, np.ndarray]:
-        """Everything that evolves, as flat arrays (the platform is rebuilt from the job first)."""
+        """Everything that evolves, as flat arrays (the platform is rebuilt from the job first); in
+        waves also "waves/...": the step count, the interval held and its ends (WaveIntervals)."""
         out = {"time": np.array(self.time), "ice": self.ice.copy()}
         for k, b in enumerate(self.bodies):
             for name in self._BODY_STATE:
@@ -209,6 +254,9 @@ class Platform:
         for k, g in enumerate(self.groups):
             for name, value in g.lines.state().items():
                 out[f"group{k}/{name}"] = np.asarray(value).copy()
+        if self.wave_intervals is not None:
+            for name, value in self.wave_intervals.state().items():
+                out[f"waves/{name}"] = value
         return out
 
     def set_state(self, s: dict) -> None:
@@ -219,3 +267,6 @@ class Platform:
                 setattr(b, name, np.asarray(s[f"body{k}/{name}"], float).copy())
         for k, g in enumerate(self.groups):
             g.lines.set_state({name[len(f"group{k}/"):]: v for name, v in s.items() if name.startswith(f"group{k}/")})
+        if self.wave_intervals is not None:
+            self.wave_intervals.set_state({name[len("waves/"):]: v for name, v in s.items()
+                                           if name.startswith("waves/")})

@@ -233,14 +233,18 @@ class RigidBody:
         w = wave_at(sea, cob[0], cob[1], cob[2] - level, t)
         return np.array(w[1:4]), np.array(w[4:7])
 
-    def hydro_loads(self, *, rho_w: float, g: float, level: float, current=(0.0, 0.0), sea=None, t: float = 0.0):
+    def hydro_loads(self, *, rho_w: float, g: float, level: float, current=(0.0, 0.0), sea=None, t: float = 0.0,
+                    waves=None):
         """Gravity, buoyancy, quadratic damping and current drag: (force [N], moment [N m]); with a
         ``sea`` (SeaComponents) at time t [s], the wave loads of the module docstring. sea None:
-        still water, exactly as without waves."""
+        still water, exactly as without waves. waves: the sea at the panel corners and brace slices
+        at time t (hull_waves.wave_loads; the platform interpolates it in time,
+        platform.wave_intervals), None: summed at t. The flow at the centre of buoyancy
+        (``wave_flow``, two point sums) is summed at t."""
         if sea is None:
             f_b, m_b, _ = self.hydrostatics(rho_w=rho_w, g=g, level=level)
         else:
-            f_b, m_b = hull_waves.wave_loads(self, sea, t, rho_w=rho_w, g=g, level=level)
+            f_b, m_b = hull_waves.wave_loads(self, sea, t, rho_w=rho_w, g=g, level=level, waves=waves)
         f = f_b + np.array([0.0, 0.0, -self.mass * g])
         m = m_b
         R = rotation_matrix(self.q)

@@ -26,15 +26,18 @@ import pytest
 from scenes import barge_job, job_from_text
 from scipy.special import j1
 
+from pice.io.checkpoint import read_checkpoint, write_checkpoint
 from pice.physics.waves import Sea
 from pice.platform.build import build_platform, hulls_from_job
-from pice.platform.hull_waves import panel_mesh, wave_loads
+from pice.platform.hull_waves import panel_mesh, wave_loads, wave_points
 from pice.platform.hulls import box, revolved, semi_submersible, semi_submersible_braces
-from pice.platform.mooring_line_kernels import WAVE_FIELDS, blend_waves, node_waves
+from pice.platform.mooring_line_kernels import node_forces
 from pice.platform.mooring_lines import LINE_ELEMENT_RECORD, LineWater, MooringLines, Seabed
 from pice.platform.platform import Attachment, MooringGroup, Platform
 from pice.platform.rigid_body import RigidBody
 from pice.platform.sea import sea_components
+from pice.platform.wave_intervals import WAVE_FIELDS, WAVE_INTERVAL, blend_waves, corner_waves, node_waves
+from pice.simulation import Simulation
 
 RHO, G = 1025.0, 9.81
 
@@ -77,10 +80,12 @@ def test_free_box_heaves_with_a_long_wave(a33_ratio):
     and 0.5 m high: its heave follows the wave, RAO within 5 % of 1 and phase within 3 degrees of 0
     (the long-wave limit), and within 1 % of the box's linear RAO (0.9979; 1.0000 with a heave
     added mass A33 = m, Eq. 11's A a). Started on the linear steady state (heave and surge velocity of the
-    wave), run three wave periods at dt = 0.01 s (1/280 of the heave period); the heave is fitted by
-    least squares to the wave frequency plus the free heave frequency, so a start-up transient does not
-    bias the amplitude. The 1 % allows the second-order terms (H k = 0.016, H/draft = 1/4) and the
-    fit; measured: 0.99790 and 0.99995 (7e-5 from the linear RAO), phase 0.08 degrees."""
+    wave), run three wave periods at dt = 0.01 s (1/280 of the heave period; the platform sums the
+    sea at the panel corners every 5 steps and interpolates, an error of (omega 0.05 s)^2 / 8 = 1e-4
+    of the wave); the heave is fitted by least squares to the wave frequency plus the free heave
+    frequency, so a start-up transient does not bias the amplitude. The 1 % allows the second-order
+    terms (H k = 0.016, H/draft = 1/4) and the fit; measured: 0.99792 and 0.99998 (3e-5 and 4e-5 from
+    the linear RAO), phase 0.02 degrees (0.99798 and 1.00005 with the sea summed every step)."""
     sea = Sea.regular(height=HEIGHT, period=math.sqrt(2 * math.pi * WAVELENGTH / G))
     k, w, a = float(sea.k[0]), float(sea.omega[0]), HEIGHT / 2
     v, t = box(L_BOX, L_BOX, H_BOX, (0.0, 0.0, H_BOX / 2 - DRAFT / 2))  # CG half-way down the draft
@@ -124,7 +129,7 @@ def test_froude_krylov_force_on_a_vertical_cylinder():
     mesh's section, the inscribed 64-gon (its area is sin(2 pi/64) / (2 pi/64) = 0.99839 of the
     circle's, and for kR this small both forces scale with it), within 1e-3: panels of at most 1 m
     with p linear across them ((k * 1 m)^2 / 8 = 5e-4) and the second-order terms (a k = 6e-4).
-    Measured: 8e-5 (F_x) and 1.4e-4 (F_z); against the circle's values 1.5e-3 and 1.7e-3. The
+    Measured: 1e-4 (F_x) and 1.4e-4 (F_z); against the circle's values 1.5e-3 and 1.7e-3. The
     out-of-phase parts vanish within 1e-3 too."""
     radius, draft, freeboard = 5.0, 20.0, 5.0
     profile = [(z, radius) for z in np.linspace(-draft, freeboard, 26)]
@@ -219,23 +224,30 @@ def test_line_node_above_the_wave_surface_is_dry():
     np.testing.assert_allclose(line.force[1], ref, rtol=1e-10)
 
 
+def buoy_and_line(sea, panel):
+    """(Platform, its 4 m box buoy (panels of at most ``panel`` [m]; None: the hull mesh), the
+    three-node ``straight_line`` 3 m down whose middle node is held and whose fairlead the box carries)."""
+    line = straight_line(sea, -3.0)
+    line.kind[1] = 1
+    v, t = box(4.0, 4.0, 4.0)
+    body = RigidBody("buoy", RHO * 32.0, np.full(3, 1e5), v, t, panels=panel_mesh(v, t, panel) if panel else None)
+    return Platform([body], rho_w=RHO, g=G, level=0.0, sea=sea,
+                    groups=[MooringGroup(line, [Attachment(0, 0, np.array([2 * L0, 0.0, -3.0]))])]), body, line
+
+
 @pytest.mark.nojit
 def test_platform_steps_its_lines_on_its_own_clock():
     """After Platform.drift from t = 5 s the lines' clock is the platform's, and the forces they hold
     are those of the sea at that time (1e-12), not at the start of the step: each sub-step's forces
     are taken at its end time, the last at t + dt. The middle node is held (kind fixed) so that its
     velocity, and with it the drag, is the same for both evaluations, and so that the waves the
-    lines take once per step at the nodes' start positions are those at its end position: the last
-    sub-step's interpolation weight is exactly 1, and what is left is the round-off of the phase
-    turned by omega dt in node_waves (~1e-15)."""
+    lines take at the nodes' places at the interval's start are those at its end position. dt =
+    0.05 s = WAVE_INTERVAL: the interval is this one step, the last sub-step's interpolation weight
+    is exactly 1, and what is left is the round-off of the phase turned by omega dt in node_waves
+    (~1e-15). Shorter steps: test_platform_interpolates_the_sea_within_its_bound."""
     sea = Sea.regular(height=4.0, period=7.0)
-    line = straight_line(sea, -3.0)
-    line.kind[1] = 1
+    p, body, line = buoy_and_line(sea, None)
     line.time = 0.0
-    v, t = box(4.0, 4.0, 4.0)
-    body = RigidBody("buoy", RHO * 32.0, np.full(3, 1e5), v, t)
-    p = Platform([body], rho_w=RHO, g=G, level=0.0, sea=sea,
-                 groups=[MooringGroup(line, [Attachment(0, 0, np.array([2 * L0, 0.0, -3.0]))])])
     p.time = 5.0
     body.x = np.zeros(3)
     p.drift(0.05)
@@ -248,43 +260,123 @@ def test_platform_steps_its_lines_on_its_own_clock():
     assert np.abs(held[1] - line.force[1]).max() > 1.0  # [N]: the sea at the start differs
 
 
-
 @pytest.mark.nojit
-def test_line_waves_taken_once_per_step_and_interpolated():
-    """The lines take the waves at their nodes once per platform step of h, at its start and end
-    (node_waves, one pass over the components), and their sub-steps interpolate linearly in time
-    (blend_waves). Against Sea.elevation and Sea.kinematics (the array kernels) for a 4 m, 7 s wave
-    in 30 m of water, at nodes above, in and below the water and under the seabed (clipped): at
-    both ends the sea's values to 1e-12 of each field's largest amplitude (round-off); in between, at a =
-    k/8, within linear interpolation's bound for a harmonic, (omega h)^2 / 8 of the amplitude
-    (h = 0.05 s: 2.5e-4; docs/waves.md, Cost). Amplitude of a field f: hypot(f(t), f(t + T/4))."""
+def test_line_waves_taken_at_two_times_and_interpolated():
+    """The sea at the line nodes at the two ends of an interval of h (node_waves, one pass over the
+    components; corner_waves: eta and p_d at the hull's panel corners), interpolated linearly in time
+    (blend_waves). Against Sea.elevation and Sea.kinematics (the array kernels), a 4 m, 7 s wave in 30 m
+    of water, at nodes above, in and below the water and under the seabed (clipped): at both ends to
+    1e-12 of each field's largest amplitude (round-off); at a = k/8 within linear interpolation's
+    bound for a harmonic, (omega h)^2 / 8 of the amplitude (h = 0.05 s = WAVE_INTERVAL: 2.5e-4;
+    docs/waves.md, Cost). Amplitude of a field f: hypot(f(t), f(t + T/4))."""
     period, h, t0, depth = 7.0, 0.05, 2.3, 30.0
     sea = Sea.regular(height=4.0, period=period, direction_deg=30.0, depth=depth)
     comps = sea_components(sea)
     x = np.array([[0.0, 0.0, 1.0], [13.0, -4.0, -0.5], [-20.0, 7.0, -12.0], [5.0, 30.0, -29.0],
                   [40.0, 2.0, -31.0]])
     level = 0.5  # the lines' water level [m]; z from it
-    n = len(x)
-    wave0, wave1, blend = np.empty((n, WAVE_FIELDS)), np.empty((n, WAVE_FIELDS)), np.empty((n, WAVE_FIELDS))
+    wave0, wave1, blend, corner0, corner1 = (np.empty((len(x), f)) for f in (WAVE_FIELDS,) * 3 + (2, 2))
     node_waves(comps, x, level, t0, t0 + h, wave0, wave1)
-
-    def exact(t):
-        pts = x - np.array([0.0, 0.0, level])
-        u, acc, _ = sea.kinematics(pts, t)
-        return np.column_stack([sea.elevation(pts[:, 0], pts[:, 1], t), u, acc])
-
-    amplitude = np.hypot(exact(t0), exact(t0 + period / 4))
-    round_off = 1e-12 * amplitude.max(axis=0)  # per field (u_z and a_z vanish at the seabed)
-    assert (np.abs(wave0 - exact(t0)) <= round_off).all()
-    assert (np.abs(wave1 - exact(t0 + h)) <= round_off).all()
+    pts = x - np.array([0.0, 0.0, level])
+    corner_waves(comps, x, level, t0, t0 + h, corner0, corner1)
+    for fields, ends in ((WAVE_FIELDS, (wave0, wave1)), (2, (corner0, corner1))):
+        scale = 1e-12 * np.hypot(_sea_at(sea, pts, t0, fields), _sea_at(sea, pts, t0 + period / 4, fields)).max(axis=0)
+        for end, t in zip(ends, (t0, t0 + h)):  # per field (u_z and a_z vanish at the seabed)
+            assert (np.abs(end - _sea_at(sea, pts, t, fields)) <= scale).all()
+    amplitude = np.hypot(_sea_at(sea, pts, t0, WAVE_FIELDS), _sea_at(sea, pts, t0 + period / 4, WAVE_FIELDS))
+    round_off = 1e-12 * amplitude.max(axis=0)
     bound = (2 * math.pi / period * h) ** 2 / 8
     worst = 0.0
     for k in range(1, 8):
         blend_waves(wave0, wave1, k / 8, blend)
-        error = np.abs(blend - exact(t0 + k / 8 * h))
+        error = np.abs(blend - _sea_at(sea, pts, t0 + k / 8 * h, WAVE_FIELDS))
         assert (error <= bound * amplitude + round_off).all()
         worst = max(worst, float((error / np.maximum(amplitude, round_off)).max()))
     assert worst > 0.1 * bound  # the bound is the error's scale, not far above it
+
+
+def _sea_at(sea, pts, t, fields):
+    """The sea at points (n, 3) [m] at t [s] by Sea.elevation and Sea.kinematics: (n, 2) eta [m], p_d
+    [Pa] (panel corners); (n, 7) eta, u [m/s], a [m/s^2] (line nodes)."""
+    u, acc, pd = sea.kinematics(pts, t)
+    eta = sea.elevation(pts[:, 0], pts[:, 1], t)
+    return np.column_stack([eta, pd]) if fields == 2 else np.column_stack([eta, u, acc])
+
+
+@pytest.mark.nojit
+def test_platform_interpolates_the_sea_within_its_bound():
+    """The platform sums the sea at its points (hull panel corners, line nodes) at the two ends of
+    intervals of N = WAVE_INTERVAL / dt steps, at their places at the interval's start, and
+    interpolates it linearly in time (platform.wave_intervals). The buoy (1 m panels) set drifting at
+    1 m/s and heaving at 0.3 m/s with its line, in a 4 m, 7 s deep-water wave; dt = 0.05 s / 8 (N = 8),
+    24 steps: three intervals. After every step, per field (eta, p_d at the corners; eta, u, a at the
+    nodes), against Sea.elevation and Sea.kinematics (the array kernels):
+    - at the points' places at the interval's start: within (omega T)^2 / 8 of the field's amplitude
+      there (T = 0.05 s: 2.5e-4) plus round-off (1e-12 of its largest amplitude); the sea itself to
+      round-off at the interval's end;
+    - where the points are now: within that plus the place error k (|d_h| + |d_z|) (phase and depth
+      factor; d the displacement since the interval's start; 1 % for its second order) of the larger
+      of the amplitudes there and at the start;
+    - the held node carries the forces of the interpolated sea at the step's end (1e-12).
+    The time error reaches more than a tenth of its bound: the bound is its scale."""
+    period, dt, every = 7.0, WAVE_INTERVAL / 8, 8
+    sea = Sea.regular(height=4.0, period=period)
+    k, time_bound = float(sea.k[0]), (2 * math.pi / period * WAVE_INTERVAL) ** 2 / 8
+    p, body, line = buoy_and_line(sea, 1.0)
+    p.loads()
+    body.v, worst = np.array([1.0, 0.0, 0.3]), 0.0
+    for step in range(3 * every):
+        if step % every == 0:  # the step that starts an interval: the points' places now
+            start = {"corners": wave_points(body)["corners"][0].copy(), "group0": line.x.copy()}
+        for call, arg in ((p.kick, 0.5 * dt), (p.drift, dt), (p.loads, None), (p.kick, 0.5 * dt)):
+            call(arg)
+        assert p.wave_intervals.index == step // every and p.wave_intervals.every == every
+        now = {"corners": wave_points(body)["corners"][0], "group0": line.x}
+        interpolated = {"corners": p.body_waves(0)["corners"], "group0": p.wave_intervals.at("group0", step + 1)}
+        for name, fields in (("corners", 2), ("group0", WAVE_FIELDS)):
+            amp0, amp1 = (np.hypot(_sea_at(sea, q, p.time, fields), _sea_at(sea, q, p.time + period / 4, fields))
+                          for q in (start[name], now[name]))
+            round_off = 1e-12 * np.maximum(amp0, amp1).max(axis=0)
+            error = np.abs(interpolated[name] - _sea_at(sea, start[name], p.time, fields))
+            assert (error <= time_bound * amp0 + round_off).all(), name
+            if (step + 1) % every == 0:
+                assert (error <= round_off).all(), name
+            worst = max(worst, float(np.divide(error, amp0, out=np.zeros_like(error), where=amp0 > round_off).max()))
+            d = now[name] - start[name]
+            place = 1.01 * k * (np.hypot(d[:, 0], d[:, 1]) + np.abs(d[:, 2]))
+            error = np.abs(interpolated[name] - _sea_at(sea, now[name], p.time, fields))
+            assert (error <= (time_bound + place[:, None]) * np.maximum(amp0, amp1) + round_off).all(), name
+        force = np.zeros((3, 3))
+        node_forces(line.x, line.v, line.mass, line.prev, line.seg, line.props, line.kind, line.water, line.current,
+                    line.seabed, interpolated["group0"], force, np.zeros(3), np.zeros(3))
+        np.testing.assert_allclose(line.force[1], force[1], rtol=1e-12)
+    assert worst > 0.1 * time_bound
+    assert np.linalg.norm(body.x) > 0.1  # [m]: the box moved, the place error was tested
+
+
+def test_restart_in_waves_is_bit_for_bit(tmp_path):
+    """The barge and its DEM lines in a 2 m, 8 s wave, dt = 1e-4 s (the sea summed every 500 steps): a
+    checkpoint at step 450, mid-interval, keeps the platform's step count, the interval and its ends
+    ("waves/..."); restarted from it, the run reaches step 650, past the next interval's start, with
+    the body pose, line nodes and tensions of the run that went on, bit for bit."""
+    waves = '\n[waves]\nspectrum = "regular"\nheight = 2.0\nperiod = 8.0\n'
+    job = job_from_text(barge_job(duration=0.07, current=0.5, drag=1.0, mooring="dem") + waves, base_dir=tmp_path)
+    sim = Simulation(job)
+    sim.advance(450)
+    ckpt = write_checkpoint(sim, tmp_path / "w.ckpt.h5")
+    state = read_checkpoint(ckpt)["platform"]
+    assert int(state["waves/interval"]) == 0 and int(state["waves/every"]) == 500 and int(state["waves/step"]) == 450
+    assert state["waves/ends/group0"].shape == (2, len(sim.platform.groups[0].lines.x), WAVE_FIELDS)
+    sim.rebuild_for_checkpoint()
+    sim.advance(200)
+    again = Simulation.from_checkpoint(job, read_checkpoint(ckpt))
+    again.advance(200)
+    a, b = sim.platform, again.platform
+    assert a.wave_intervals.index == b.wave_intervals.index == 1
+    for got, want in ((a.bodies[0].x, b.bodies[0].x), (a.bodies[0].q, b.bodies[0].q),
+                      (a.polylines()[0], b.polylines()[0]), (a.fairlead_tensions(), b.fairlead_tensions())):
+        assert np.array_equal(got, want)
+
 
 def test_build_platform_floats_the_bodies_in_the_jobs_sea():
     """A job with [waves] and [[bodies]]: build_platform gives the platform, its DEM lines and its
