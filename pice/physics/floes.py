@@ -211,7 +211,7 @@ class Floes:
         few dozen operations for the rest of its water), and the sea changes slowly against the step:
         they are taken at the start and the end of every interval of N = wave_interval / dt steps, at
         the floes' places at its start, and interpolated linearly in time between (error
-        (omega T)^2 / 8 of a component's amplitude over an interval T: 1.4e-4 for the shortest
+        (omega T)^2 / 8 of a component's amplitude over an interval T: 3.4e-4 for the shortest
         JONSWAP component of seed 003's sea at 0.05 s; a floe drifting at 0.4 m/s moves 2 cm, 0.2 %
         of that component's wavelength). The intervals are counted in steps and their two ends are
         checkpointed, so a restart continues them bit for bit."""
