@@ -40,7 +40,8 @@ class FloesSpec(Section):
     form_drag_coefficient: quantity("", gt=None, ge=0.0) = 1.0     # on the submerged side (seed 003 Eq. 12)
     damping_ratio: quantity("", gt=None, ge=0.0, lt=1.0) = 0.1     # heave, roll, pitch (radiation; assumption)
     added_mass: Literal["plate", "none"] = "plate"  # thin floating disks (physics/floes.plate_added_mass)
-    step_fraction: quantity("", le=0.2) = 0.02   # dt "auto": this fraction of the shortest contact, m_eff / c_n
+    step_fraction: quantity("", le=0.2) = 0.1    # dt "auto": this fraction of the shortest contact, m_eff / c_n
+                                                 # (docs/broken_ice.md, "The time step": 0.02-0.1 agree)
     contact: FloeContactSpec = FloeContactSpec()
 
     @model_validator(mode="after")

@@ -276,7 +276,7 @@ def floe_time_step(job, system: FloeSystem | None) -> StepLimit:
     """The step of a scene without level ice: the floes' contact law sets it. The stability limit is
     that of the lightest contact (two of the smallest floes; one against a structure); "auto" takes
     the smaller of run.dt_safety of it and floes.step_fraction of that contact's duration m_eff / c_n
-    (the dashpot's time; docs/broken_ice.md: restitution 1.6 % low at 0.02). A scene of bodies alone
+    (the dashpot's time; docs/broken_ice.md, "The time step"). A scene of bodies alone
     has no contact law: it needs run.dt."""
     from .timestep import choose_step
 
