@@ -48,7 +48,7 @@ current = [1.0, 0.0]
 [ice]
 length = 6.0
 width = 4.0
-velocity = [1.5, 0.0]
+velocity = [1.0, 0.0]
 [bond]
 normal_stiffness = 1.72e7
 normal_strength = 1.5e6
@@ -82,7 +82,7 @@ element_diameter = 1.0
 length = 12.0
 width = 10.0
 origin = [0.0, -5.0]
-velocity = [1.5, 0.0]
+velocity = [1.0, 0.0]
 youngs_modulus = 1.0e9
 flexural_strength = 0.3e6
 compressive_strength = 1.5e6
