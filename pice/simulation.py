@@ -383,14 +383,6 @@ class Simulation:
             return np.zeros((0, 6)) if self.comm.rank == 0 else None
         return self.wall_total
 
-    def platform_snapshot(self, first: bool = False) -> dict | None:
-        """Rank 0's snapshot arrays of the bodies and lines; None elsewhere."""
-        if self.platform is None:
-            return None
-        from .platform.output import snapshot_arrays
-
-        return snapshot_arrays(self.platform, self.hulls, first)
-
     def energies(self) -> dict[str, float]:
         return diagnostics.energies(self)
 

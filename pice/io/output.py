@@ -18,6 +18,7 @@ import numpy as np
 from ..parallel.comm import on_root
 from ..physics.crushing import crush_depth
 from ..platform.output import describe as describe_platform
+from ..platform.output import snapshot_arrays
 from .mpio import MODE_ENV, choose_mode, h5py_has_mpi
 from .run_file import RunFile
 from .xdmf import write_xdmf_quietly
@@ -108,8 +109,10 @@ class RunOutput:
         part = dict(gid=p.gid[:n].copy(), x=p.x[:n].copy(), v=p.v[:n].copy(), w=p.w[:n].copy(),
                     radius=p.radius[:n].copy(), kind=p.kind[:n].copy(), crush_depth=crush_depth(p),
                     bonds=p.intact_bonds())
-        extras = self.sim.platform_snapshot(first=index == 0)  # rank 0's bodies and lines (None elsewhere)
-        if self.sim.floes is not None and self.comm.rank == 0:  # every rank holds all floes: rank 0 writes them
+        extras = None  # small arrays written by rank 0: its bodies and lines, and the floes every rank holds
+        if self.sim.platform is not None:
+            extras = snapshot_arrays(self.sim.platform, self.sim.hulls, index == 0)
+        if self.sim.floes is not None and self.comm.rank == 0:
             extras = {**(extras or {}), **self.sim.floes.snapshot_arrays(first=index == 0)}
         if self.mode == "mpio":  # collective: each rank writes its part at its gid-sorted place
             self.file.write_snapshot_arrays(index, time=self.sim.c.time, step=self.sim.c.step, arrays=part,
