@@ -123,6 +123,15 @@ mass = "shell"
 shell_thickness = 0.0619
 position = "afloat"
 """
+SHIP = """[[bodies]]
+name = "uikku"
+hull = {type = "ship", length = 150.0, midbody = 67.5, breadth = 22.2, draft = 9.5, waterline_angle = 25.2, stem_angle = 29.7}
+mass = 2.1e7
+inertia = [1.0e9, 3.0e10, 3.0e10]
+position = [200.0, 0.0, 0.0]
+motion = "prescribed"
+velocity = [[0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]]
+"""
 NUMBER_S = r"\d+(\.\d+)?(e-?\d+)? s"  # a time in seconds as printed
 
 CASES = [
@@ -266,6 +275,24 @@ CASES = [
          "bodies[0].hull.alpha = 90.0: must be < 90 deg"),
     case("buoy_key_on_a_box", BASE + WATER + BODY.replace("size = [10.0, 8.0, 4.0]}", "size = [10.0, 8.0, 4.0], d_max = 9.0}"),
          "bodies[0].hull.d_max = 9.0: only for type = \"buoy\"; drop it (this hull is 'box')"),
+    # --- the ship of seed 002 (issue 15): a "ship" hull from Table 1's main dimensions (pice/platform/ship.py)
+    case("ship_midbody_longer_than_length", BASE + WATER + SHIP.replace("midbody = 67.5", "midbody = 160.0"),
+         "bodies[0].hull.midbody = 160.0: must be < length = 150 m"),
+    case("ship_bow_does_not_fit", BASE + WATER + SHIP.replace("waterline_angle = 25.2", "waterline_angle = 5.0"),
+         "bodies[0].hull.waterline_angle = 5.0: the bow at 5 deg is 126.9 m long on the waterline",
+         "raise it above 7.663 deg or shorten the midbody"),
+    case("ship_stem_vertical", BASE + WATER + SHIP.replace("stem_angle = 29.7", "stem_angle = 90.0"),
+         "bodies[0].hull.stem_angle = 90.0: must be < 90 deg"),
+    case("ship_stem_rakes_past_the_midbody", BASE + WATER + SHIP.replace("stem_angle = 29.7", "stem_angle = 5.0"),
+         "bodies[0].hull.stem_angle = 5.0: the stem at 5 deg rakes 108.6 m over the draft", "raise it above 8.011 deg"),
+    case("ship_without_breadth", BASE + WATER + SHIP.replace(" breadth = 22.2,", ""),
+         "bodies[0].hull.breadth = (absent): missing: a ship hull needs the breadth [m]"),
+    case("ship_deck_below_the_draft", BASE + WATER + SHIP.replace("stem_angle = 29.7}", "stem_angle = 29.7, depth = 8.0}"),
+         "bodies[0].hull.depth = 8.0: must be > draft = 9.5 m (keel to deck)"),
+    case("ship_key_on_a_box", BASE + WATER + BODY.replace("size = [10.0, 8.0, 4.0]}", "size = [10.0, 8.0, 4.0], half = true}"),
+         "bodies[0].hull.half = true: only for type = \"ship\"; drop it (this hull is 'box')"),
+    case("ship_with_a_shell_mass", BASE + WATER + SHIP.replace("mass = 2.1e7", 'mass = "shell"\nshell_thickness = 0.02'),
+         "bodies[0].mass = 'shell': \"shell\" is not for a ship hull", "give the mass in kg"),
     case("shell_thickness_negative", BASE + WATER + BUOY.replace("0.0619", "-0.0619"),
          "bodies[0].shell_thickness = -0.0619: must be > 0 m"),
     case("shell_without_thickness", BASE + WATER + BUOY.replace("shell_thickness = 0.0619\n", ""),

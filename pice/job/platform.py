@@ -26,9 +26,13 @@ class HullSpec(Section):
 
     "buoy" is the double cone of Cai (2018, seed 004; platform.hulls.buoy_design_profile), keel
     cylinder, lower cone at ``alpha`` up to the widest section of diameter ``d_max``, upper cone to the
-    top, placed with its shell's centre at the body origin (the centre of gravity of a thin shell)."""
+    top, placed with its shell's centre at the body origin (the centre of gravity of a thin shell).
 
-    type: Literal["semi_submersible", "box", "mesh", "revolved", "buoy"]
+    "ship" is the parametric hull of seed 002's Table 1 (platform.ship): a raked wedge bow, a parallel
+    midbody and a wedge stern, three convex pieces; the body origin on the centreline at the design
+    waterline, half-way along the waterline length; ``half``: its y >= 0 half."""
+
+    type: Literal["semi_submersible", "box", "mesh", "revolved", "buoy", "ship"]
     size: Optional[vector(Vec3, "m")] = None        # box: length, width, height
     centre: vector(Vec3, "m") = (0.0, 0.0, 0.0)     # box: centre in the body frame
     file: Optional[str] = None                      # mesh: meshio-readable closed triangle mesh
@@ -39,6 +43,14 @@ class HullSpec(Section):
     height: Optional[quantity("m")] = None          # buoy: keel to top
     keel: Optional[quantity("m", gt=None, ge=0.0)] = None   # buoy: the keel cylinder's height (default height/6)
     widest: Optional[quantity("m")] = None          # buoy: the widest section above the keel (default 5 height/6)
+    length: Optional[quantity("m")] = None          # ship: waterline length (platform/ship.py)
+    midbody: Optional[quantity("m")] = None         # ship: parallel midbody on the waterline
+    breadth: Optional[quantity("m")] = None         # ship: breadth B
+    draft: Optional[quantity("m")] = None           # ship: draft T, keel to the body origin's waterline
+    waterline_angle: Optional[quantity("deg", lt=90.0)] = None  # ship: the bow's half-angle on the waterline
+    stem_angle: Optional[quantity("deg", lt=90.0)] = None       # ship: the stem's rake from the horizontal
+    depth: Optional[quantity("m")] = None           # ship: keel to deck (default draft + 5.5 m)
+    half: StrictBool = False                        # ship: the y >= 0 half only (a symmetry wall at y = 0)
 
     @model_validator(mode="after")
     def _geometry(self):
@@ -55,7 +67,46 @@ class HullSpec(Section):
             raise ValueError("file: missing: a mesh hull needs file = \"path/to/hull.stl\" (relative to the "
                              "job file's folder; body frame, origin at the centre of gravity)")
         self._buoy()
+        self._ship()
         return self
+
+    def _ship(self) -> None:
+        """The keys of a "ship" hull (seed 002's Table 1): given, and the bow, stem and stern fitting."""
+        keys = ("length", "midbody", "breadth", "draft", "waterline_angle", "stem_angle", "depth")
+        if self.type != "ship":
+            for key in keys + ("half",):
+                if getattr(self, key) not in (None, False):
+                    raise ValueError(f"{key}: only for type = \"ship\"; drop it (this hull is {self.type!r})")
+            return
+        for key, what in (("length", "the waterline length [m]"), ("midbody", "the parallel midbody [m]"),
+                          ("breadth", "the breadth [m]"), ("draft", "the draft [m]"),
+                          ("waterline_angle", "the bow's waterline half-angle [deg]"),
+                          ("stem_angle", "the stem angle [deg] from the horizontal")):
+            if getattr(self, key) is None:
+                raise ValueError(f"{key}: missing: a ship hull needs {what}")
+        if self.midbody >= self.length:
+            raise ValueError(f"midbody: must be < length = {self.length:g} m (the bow and stern lie outside it)")
+        bow = 0.5 * self.breadth / math.tan(math.radians(self.waterline_angle))
+        if self.length - self.midbody - bow <= 0.0:
+            widest = math.degrees(math.atan2(0.5 * self.breadth, self.length - self.midbody))
+            raise ValueError(f"waterline_angle: the bow at {self.waterline_angle:g} deg is {bow:.4g} m long on the "
+                             f"waterline (B / (2 tan alpha)), more than the {self.length - self.midbody:.4g} m that "
+                             f"length and midbody leave for bow and stern; raise it above {widest:.4g} deg or "
+                             "shorten the midbody")
+        rake = self.draft / math.tan(math.radians(self.stem_angle))
+        if rake >= self.midbody:
+            raise ValueError(f"stem_angle: the stem at {self.stem_angle:g} deg rakes {rake:.4g} m over the draft "
+                             f"(T / tan phi), more than the {self.midbody:g} m midbody whose fore end rakes with it; "
+                             f"raise it above {math.degrees(math.atan2(self.draft, self.midbody)):.4g} deg")
+        if self.depth is not None and self.depth <= self.draft:
+            raise ValueError(f"depth: must be > draft = {self.draft:g} m (keel to deck)")
+
+    @property
+    def ship_dimensions(self) -> dict:
+        """A "ship" hull's keywords for platform.ship.ship_pieces (depth None: its default freeboard)."""
+        return dict(length=self.length, midbody=self.midbody, breadth=self.breadth, draft=self.draft,
+                    waterline_angle=self.waterline_angle, stem_angle=self.stem_angle, depth=self.depth,
+                    half=self.half)
 
     def _buoy(self) -> None:
         """The keys of a "buoy" hull: d_max, alpha and height given, the cones fitting the height."""
@@ -133,6 +184,9 @@ class BodySpec(Section):
         if self.position == "afloat" and self.mass == "balance":
             raise ValueError("position: \"afloat\" floats the body at its mass, and mass = \"balance\" is the mass "
                              "that floats at a given position: give the mass (kg or \"shell\") or the position")
+        if self.mass == "shell" and self.hull.type == "ship":
+            raise ValueError("mass: \"shell\" is not for a ship hull (its pieces share inner faces that a shell over "
+                             "its triangles would count); give the mass in kg")
         if self.position == "afloat" and self.hull.type == "mesh":
             raise ValueError("position: \"afloat\" needs a hull built from parameters (box, revolved, buoy, "
                              "semi_submersible); for a mesh hull give [x, y, z] (m)")

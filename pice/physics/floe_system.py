@@ -224,10 +224,13 @@ def floes_from_job(job, hulls, poses, *, comm) -> FloeSystem:
             pieces = [revolved(prof[i:i + 2], min(hull.segments, 40)) for i in range(len(prof) - 1)]
         elif hull.type == "box":
             pieces = [(hulls[k].vertices, hulls[k].triangles)]
+        elif hull.type == "ship":  # bow, midbody, stern (platform/ship.py)
+            from ..platform.ship import ship_hull
+            pieces = ship_hull(hull)[0]
         else:
             raise JobError(f"{job.source}: bodies[{k}].hull.type = {hull.type!r}: floes meet convex hulls only: a "
-                           "\"revolved\" hull (each ring to the next is a convex frustum) or a \"box\"; give the "
-                           "body such a hull, or drop [floes]")
+                           "\"revolved\" hull (each ring to the next is a convex frustum), a \"box\" or a "
+                           "\"ship\"; give the body such a hull, or drop [floes]")
         first = len(floes.structures)
         for v, t in pieces:
             floes.add_structure(v, t, centre=np.zeros(3))

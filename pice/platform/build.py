@@ -32,6 +32,7 @@ from .mooring_lines import LineSegment, build_lines
 from .platform import Attachment, MooringGroup, Platform, lines_pull
 from .quasi_static import QuasiStaticLines
 from .rigid_body import RigidBody, heading_quaternion
+from .ship import ship_hull
 
 log = logging.getLogger("pice")
 
@@ -51,6 +52,8 @@ def hull_mesh(job, k: int, base_dir=None) -> tuple[np.ndarray, np.ndarray]:
         v, t = box(*spec.size, centre=spec.centre)
     elif spec.type in ("revolved", "buoy"):
         v, t = revolved(body_profile(spec), spec.segments)
+    elif spec.type == "ship":
+        v, t = ship_hull(spec)[1]
     else:
         try:
             v, t = read_triangle_mesh(pathlib.Path(base_dir or ".") / spec.file)
