@@ -233,7 +233,7 @@ def floes_from_job(job, hulls, poses, *, comm) -> FloeSystem:
                            "\"ship\"; give the body such a hull, or drop [floes]")
         first = len(floes.structures)
         for v, t in pieces:
-            floes.add_structure(v, t, centre=np.zeros(3))
+            floes.add_structure(v, t, centre=np.zeros(3), friction=body.friction)  # ice-hull friction
         body_pieces.append(list(range(first, first + len(pieces))))
         for s in body_pieces[-1]:
             floes.move_structure(s, x=poses[k, :3], q=poses[k, 3:7], v=poses[k, 7:10], w=poses[k, 10:13])

@@ -141,11 +141,12 @@ class Floes:
         self.structures = []  # fixed convex structures: (pts, counts, centre, bound)
         self.structure_load = np.zeros((0, 6))
 
-    def add_structure(self, vertices: np.ndarray, triangles: np.ndarray, centre=None) -> None:
+    def add_structure(self, vertices: np.ndarray, triangles: np.ndarray, centre=None, friction=None) -> None:
         """A convex structure: a closed, outward triangle mesh [m] (e.g. a revolved hull) in the frame of
         its reference point ``centre`` (default: the mean of its vertices), placed at that point, still.
         Every triangle is a face (coplanar ones clip once). ``move_structure`` sets its pose and
-        motion; its load (force, moment about the reference point) is ``structure_load[k]``."""
+        motion; its load (force, moment about the reference point) is ``structure_load[k]``. ``friction``:
+        the ice-structure Coulomb coefficient (default: the floes' law's)."""
         v = np.asarray(vertices, float)
         centre = v.mean(axis=0) if centre is None else np.asarray(centre, float)
         local = np.zeros((len(triangles), 3, 3))
@@ -153,7 +154,7 @@ class Floes:
         bound = float(np.linalg.norm(v - centre, axis=1).max())
         self.structures.append({"local": local, "counts": np.full(len(triangles), 3, np.int64), "bound": bound,
                                 "x": centre.copy(), "q": np.array([1.0, 0.0, 0.0, 0.0]), "v": np.zeros(3),
-                                "w": np.zeros(3)})
+                                "w": np.zeros(3), "mu": self.law.mu if friction is None else float(friction)})
         self.structure_load = np.zeros((len(self.structures), 6))
 
     def add_wall(self, normal, offset: float) -> None:
@@ -251,7 +252,7 @@ class Floes:
             s_pts = world_polyhedra(st["local"][None], st["counts"][None], st["x"][None], st["q"][None])[0]
             nrec, nplastic = structure_contacts(lo, hi, self.x, self.v, omega, self.mass, self.bound, pts, counts,
                                                 s_pts, st["counts"], st["x"], st["bound"], st["v"], st["w"], law.kn,
-                                                law.cn, law.kt, law.mu, law.pressure, dt, self.step_count, -1 - k,
+                                                law.cn, law.kt, st["mu"], law.pressure, dt, self.step_count, -1 - k,
                                                 self.cgid, self.stamp, self.hist, rec)
         _refuse_overflow(nrec, rec, "floe-structure")
         return rec, nrec, nplastic
