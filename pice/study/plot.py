@@ -1,6 +1,6 @@
-"""The figure of a study (pice/study/): for each metric, its change against the reference variant
-[%] over the wall time [s] of each variant, points labelled by variant number; and the cost
-(particle-steps over wall time). A metric no variant has (no body: offsets, tensions) says so.
+"""The figure of a study (pice/study/): for each metric some variant recorded, its change against the
+reference variant [%] over the wall time [s] of each variant, points labelled by variant number; and
+the cost (particle-steps over wall time). A study that recorded none shows the first five, saying so.
 Matplotlib's Agg backend: no display needed. 1200 x 700 pixels.
 """
 
@@ -24,11 +24,16 @@ def plot_study(study: dict, path) -> pathlib.Path:
 
     rows, ref = study["variants"], study["reference"]
     wall = [r["wall_time"] for r in rows]
-    fig, axes = plt.subplots(2, 3, figsize=FIGSIZE, dpi=DPI)
     log_x = min(wall) > 0 and max(wall) / min(wall) > 20.0
-    panels = [(label, [r["change_pct"][name] for r in rows], "change vs reference [%]")
+    panels = [(label, [r["change_pct"].get(name, math.nan) for r in rows], "change vs reference [%]")
               for name, _, label in METRICS]
-    panels.append(("cost", [float(r["particle_steps"]) for r in rows], "particle-steps"))
+    recorded = [p for p in panels if any(not math.isnan(y) for y in p[1])]
+    panels = (recorded or panels[:5]) + [("cost", [float(r["particle_steps"]) for r in rows], "particle-steps")]
+    ncols = 3 if len(panels) <= 6 else 4  # every recorded metric gets a panel, the cost last
+    fig, axes = plt.subplots(max(2, math.ceil(len(panels) / ncols)), ncols, figsize=FIGSIZE, dpi=DPI,
+                             squeeze=False)
+    for ax in axes.flat[len(panels):]:
+        ax.set_visible(False)
     for ax, (label, ys, ylabel) in zip(axes.flat, panels):
         points = [(x, y, r["variant"]) for x, y, r in zip(wall, ys, rows) if not math.isnan(y)]
         if not points:
@@ -43,7 +48,7 @@ def plot_study(study: dict, path) -> pathlib.Path:
             ax.axhline(0.0, color="0.6", lw=0.8)
         if log_x:
             ax.set_xscale("log")
-        ax.set_title(label, fontsize=10)
+        ax.set_title(label, fontsize=9)
         ax.set_xlabel("wall time [s]")
         ax.set_ylabel(ylabel)
         ax.grid(alpha=0.3)
