@@ -326,6 +326,8 @@ class Simulation:
     def check_health(self) -> None:
         """Raise InstabilityError naming the step, the element and the likely cause on NaN or runaway."""
         p, timers = self.p, self.timers
+        if self.floes is not None:  # the same on every rank: no reduction needed
+            self.floes.check(self.c.step, self.c.time)
         ratio, i, nonfinite = max_step_displacement(p.nlocal, p.v, p.w, p.radius, self.dt)
         bad = 1.0 if (nonfinite or ratio > RUNAWAY_STEP_FRACTION) else 0.0
         crushed = crushed_through(p) if self.job.crushing is not None else ()

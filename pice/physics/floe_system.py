@@ -171,6 +171,26 @@ class FloeSystem:
             out["floe_thickness"] = f.thickness.copy()
         return out
 
+    def check(self, step: int, time: float) -> None:
+        """InstabilityError naming the floe, the step and the likely cause when a floe's state is not
+        finite or it moves more than a tenth of its size in one step (every rank alike)."""
+        f = self.f
+        if not self.n:
+            return
+        speed = np.linalg.norm(f.v, axis=1)
+        bad = ~np.isfinite(speed) | ~np.isfinite(f.x).all(axis=1)
+        dt = time / step if step else 0.0
+        runaway = speed * dt > 0.1 * f.bound
+        if bad.any() or runaway.any():
+            from ..errors import InstabilityError
+
+            i = int(np.flatnonzero(bad | runaway)[0])
+            what = "a non-finite state (NaN/inf)" if bad[i] else f"a speed of {speed[i]:.3g} m/s"
+            raise InstabilityError(
+                f"unstable at step {step} (t = {time:.6g} s): floe {i} at {np.array2string(f.x[i], precision=3)} m "
+                f"shows {what}; likely cause: floes started overlapping each other or a hull, or a run.dt far "
+                "above floes.step_fraction of the contact time (use dt = \"auto\")")
+
     def wall_loads(self) -> np.ndarray:
         """(n_walls, 6) the floes' load on each confining wall: force [N], moment about the origin [N m]."""
         first = sum(len(p) for p in self.body_pieces)

@@ -154,3 +154,22 @@ def test_added_mass_lengthens_the_heave_period():
     period = np.mean(np.diff(ups))
     expected = 2.0 * math.pi * math.sqrt((floes.mass[0] + added[0, 2]) / (RHO_W * 9.81 * SIDE * SIDE))
     assert abs(period - expected) <= 0.01 * expected, (period, expected)
+
+
+def test_a_runaway_or_broken_floe_stops_the_run_naming_it():
+    """The health check (Simulation.check_health calls FloeSystem.check): a floe with a NaN, or moving a
+    tenth of its size in one step, raises InstabilityError naming the floe and the likely cause."""
+    import pytest
+
+    from pice.errors import InstabilityError
+
+    floes = _field_with_cone()()
+    system = FloeSystem(floes, SerialComm(), [])
+    system.check(10, 0.05)  # at rest in the current: fine
+    floes.v[3, 0] = 0.2 * floes.bound[3] / 0.005  # 0.2 of its size in one step of 5 ms
+    with pytest.raises(InstabilityError, match=r"floe 3 .* shows a speed of .* likely cause: floes started"):
+        system.check(10, 0.05)
+    floes.v[3, 0] = 0.0
+    floes.x[5, 1] = np.nan
+    with pytest.raises(InstabilityError, match=r"floe 5 .* non-finite"):
+        system.check(10, 0.05)
