@@ -96,20 +96,28 @@ def _cap(pts, count, normal, out):
 
 
 @njit(**JIT)
-def face_plane(poly, count):
-    """(unit outward normal (3,), offset) of a convex face: normal . x = offset on it."""
+def _plane(poly, count):
+    """(n0, n1, n2, offset) of a convex face's plane, its unit outward normal in scalars (no array)."""
     s0 = s1 = s2 = 0.0
     p0, p1, p2 = poly[0, 0], poly[0, 1], poly[0, 2]
-    for i in range(1, count - 1):  # scalars: no temporaries
+    for i in range(1, count - 1):
         a0, a1, a2 = poly[i, 0] - p0, poly[i, 1] - p1, poly[i, 2] - p2
         b0, b1, b2 = poly[i + 1, 0] - p0, poly[i + 1, 1] - p1, poly[i + 1, 2] - p2
         s0 += a1 * b2 - a2 * b1
         s1 += a2 * b0 - a0 * b2
         s2 += a0 * b1 - a1 * b0
     norm = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+    s0, s1, s2 = s0 / norm, s1 / norm, s2 / norm
+    return s0, s1, s2, s0 * p0 + s1 * p1 + s2 * p2
+
+
+@njit(**JIT)
+def face_plane(poly, count):
+    """(unit outward normal (3,), offset) of a convex face: normal . x = offset on it."""
+    n0, n1, n2, offset = _plane(poly, count)
     s = np.empty(3)
-    s[0], s[1], s[2] = s0 / norm, s1 / norm, s2 / norm
-    return s, s[0] * p0 + s[1] * p1 + s[2] * p2
+    s[0], s[1], s[2] = n0, n1, n2
+    return s, offset
 
 
 @njit(**JIT)
@@ -245,19 +253,7 @@ def face_planes(pts, counts):
             m = counts[k, f]
             if m < 3:
                 continue
-            poly = pts[k, f]  # face_plane's sums, written in place (no array per face)
-            p0, p1, p2 = poly[0, 0], poly[0, 1], poly[0, 2]
-            s0 = s1 = s2 = 0.0
-            for i in range(1, m - 1):
-                a0, a1, a2 = poly[i, 0] - p0, poly[i, 1] - p1, poly[i, 2] - p2
-                b0, b1, b2 = poly[i + 1, 0] - p0, poly[i + 1, 1] - p1, poly[i + 1, 2] - p2
-                s0 += a1 * b2 - a2 * b1
-                s1 += a2 * b0 - a0 * b2
-                s2 += a0 * b1 - a1 * b0
-            norm = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
-            s0, s1, s2 = s0 / norm, s1 / norm, s2 / norm
-            out[k, f, 0], out[k, f, 1], out[k, f, 2] = s0, s1, s2
-            out[k, f, 3] = s0 * p0 + s1 * p1 + s2 * p2
+            out[k, f, 0], out[k, f, 1], out[k, f, 2], out[k, f, 3] = _plane(pts[k, f], m)
     return out
 
 
