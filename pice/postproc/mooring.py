@@ -1,6 +1,6 @@
 """The mooring load of a run and its analysis as seed 003 reports it: the time series of the total
 horizontal force of the lines, its power spectrum (Fig. 12) and the maximum load of each ice
-interaction event (Fig. 10).
+interaction event (Fig. 10). Numbers only; postproc/plots.py draws them (``mooring_load.png``).
 
 * The mooring load is |F_h| of the lines' total pull on a body (series ``mooring_force``), the ice
   load |F_h| of the ice's (``ice_force``), both [N].
@@ -66,54 +66,7 @@ def interaction_events(t: np.ndarray, ice: np.ndarray, mooring: np.ndarray | Non
     return events
 
 
-def mooring_figure(run, out, skip: float = 0.0, **_):
-    """mooring_load.png: the mooring and ice loads against time, the mooring load's spectrum, and the
-    peak loads of each ice interaction event; events.csv beside it. None without mooring lines."""
-    import matplotlib
-
-    matplotlib.use("Agg", force=True)
-    import matplotlib.pyplot as plt
-
-    from .plots import DPI, FIGSIZE, _save, _title
-
-    moor, ice = horizontal(run, "mooring_force"), horizontal(run, "ice_force")
-    if moor is None or not np.any(moor[1]):
-        return None
-    t, m = moor
-    fig, axes = plt.subplots(3, 1, figsize=FIGSIZE, dpi=DPI)  # the spectrum has its own x axis
-    axes[0].plot(t, m / 1e6, lw=1.0, label="mooring load |F_h|")
-    if ice is not None:
-        axes[0].plot(t, ice[1] / 1e6, lw=0.6, alpha=0.7, label="ice load |F_h|")
-    axes[0].axvline(skip, color="k", lw=0.6, ls=":")
-    axes[0].set_ylabel("load [MN]")
-    axes[0].set_xlabel("t [s]")
-    spectrum = load_spectrum(t, m, skip)
-    if spectrum is not None:
-        f, psd = spectrum
-        axes[1].loglog(f[1:], psd[1:] / 1e12, lw=1.0)
-        axes[1].set_xlabel("frequency [Hz]")
-    axes[1].set_ylabel("PSD [MN^2 s]")
-    axes[1].set_title(f"power spectrum of the mooring load after t = {skip:g} s (Welch)", fontsize=10)
-    events = interaction_events(t, ice[1], m, skip=skip) if ice is not None else []
-    if events:
-        mid = [0.5 * (e["start"] + e["end"]) for e in events]
-        axes[2].plot(mid, [e["mooring_max"] / 1e6 for e in events], "o", label="mooring load")
-        axes[2].plot(mid, [e["ice_max"] / 1e6 for e in events], "x", label="ice load")
-        _write_events(events, out / "events.csv")
-    axes[2].set_ylabel("peak per event [MN]")
-    axes[2].set_xlabel("t [s] (middle of the event)")
-    axes[2].set_title(f"{len(events)} ice interaction events (ice load above {EVENT_THRESHOLD:.0%} of its peak)",
-                      fontsize=10)
-    for ax in axes:
-        ax.grid(alpha=0.3)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(loc="upper left", fontsize=8)
-    fig.suptitle(f"Mooring load: {_title(run)}", fontsize=11)
-    fig.tight_layout()
-    return _save(fig, out / "mooring_load.png")
-
-
-def _write_events(events: list[dict], path) -> None:
+def write_events(events: list[dict], path) -> None:
     keys = list(events[0])
     lines = [",".join(f"{k}{' [s]' if k in ('start', 'end') else ' [N]'}" for k in keys)]
     lines += [",".join(f"{e[k]:.6g}" for k in keys) for e in events]

@@ -167,14 +167,56 @@ def platform(run, out: pathlib.Path, **_):
     return _save(fig, out / "platform.png")
 
 
-def _mooring(run, out: pathlib.Path, **opts):
-    from .mooring import mooring_figure
+def mooring_load(run, out: pathlib.Path, skip: float = 0.0, **_):
+    """mooring_load.png: the mooring and ice loads against time, the mooring load's spectrum, and the
+    peak loads of each ice interaction event (postproc/mooring.py); events.csv beside it. None without
+    mooring lines."""
+    import matplotlib
 
-    return mooring_figure(run, out, **opts)
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    from .mooring import EVENT_THRESHOLD, horizontal, interaction_events, load_spectrum, write_events
+
+    moor, ice = horizontal(run, "mooring_force"), horizontal(run, "ice_force")
+    if moor is None or not np.any(moor[1]):
+        return None
+    t, m = moor
+    fig, axes = plt.subplots(3, 1, figsize=FIGSIZE, dpi=DPI)  # the spectrum has its own x axis
+    axes[0].plot(t, m / 1e6, lw=1.0, label="mooring load |F_h|")
+    if ice is not None:
+        axes[0].plot(t, ice[1] / 1e6, lw=0.6, alpha=0.7, label="ice load |F_h|")
+    axes[0].axvline(skip, color="k", lw=0.6, ls=":")
+    axes[0].set_ylabel("load [MN]")
+    axes[0].set_xlabel("t [s]")
+    spectrum = load_spectrum(t, m, skip)
+    if spectrum is not None:
+        f, psd = spectrum
+        axes[1].loglog(f[1:], psd[1:] / 1e12, lw=1.0)
+        axes[1].set_xlabel("frequency [Hz]")
+    axes[1].set_ylabel("PSD [MN^2 s]")
+    axes[1].set_title(f"power spectrum of the mooring load after t = {skip:g} s (Welch)", fontsize=10)
+    events = interaction_events(t, ice[1], m, skip=skip) if ice is not None else []
+    if events:
+        mid = [0.5 * (e["start"] + e["end"]) for e in events]
+        axes[2].plot(mid, [e["mooring_max"] / 1e6 for e in events], "o", label="mooring load")
+        axes[2].plot(mid, [e["ice_max"] / 1e6 for e in events], "x", label="ice load")
+        write_events(events, out / "events.csv")
+    axes[2].set_ylabel("peak per event [MN]")
+    axes[2].set_xlabel("t [s] (middle of the event)")
+    axes[2].set_title(f"{len(events)} ice interaction events (ice load above {EVENT_THRESHOLD:.0%} of its peak)",
+                      fontsize=10)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(loc="upper left", fontsize=8)
+    fig.suptitle(f"Mooring load: {_title(run)}", fontsize=11)
+    fig.tight_layout()
+    return _save(fig, out / "mooring_load.png")
 
 
 # each figure: builder(run, out_dir, skip=...) -> path or None when the run lacks its series
-FIGURES = (ice_loads, platform, _mooring, energies, broken_bonds)
+FIGURES = (ice_loads, platform, mooring_load, energies, broken_bonds)
 
 
 def default_out_dir(run_path) -> pathlib.Path:
