@@ -29,6 +29,14 @@ def _square(cx, cy, side=SIDE):
     return np.array([[cx - h, cy - h], [cx + h, cy - h], [cx + h, cy + h], [cx - h, cy + h]])
 
 
+def _step(system, k, dt, poses=np.zeros((0, 13))):
+    """Step k -> k + 1 of dt [s] as the Simulation takes it: half kick, drift, forces, half kick."""
+    system.kick(0.5 * dt)
+    system.drift(dt)
+    system.compute_forces(poses, (k + 1) * dt, dt)
+    system.kick(0.5 * dt)
+
+
 def test_a_floe_pressed_on_a_wall_by_the_current_carries_its_drag():
     u = 0.4
     water = FloeWater(density=RHO_W, current=(0.0, u), skin=0.0055, form=1.0, damping_ratio=0.3)
@@ -40,10 +48,7 @@ def test_a_floe_pressed_on_a_wall_by_the_current_carries_its_drag():
     dt = 0.01
     system.compute_forces(np.zeros((0, 13)), 0.0, dt)
     for k in range(6000):
-        system.kick(0.5 * dt)
-        system.drift(dt)
-        system.compute_forces(np.zeros((0, 13)), (k + 1) * dt, dt)
-        system.kick(0.5 * dt)
+        _step(system, k, dt)
     assert np.abs(floes.v).max() < 1e-6
     d = -floes.x[0, 2] + 0.5 * H  # the draft where it floats
     drag = RHO_W * (0.0055 * SIDE * SIDE + 0.5 * 1.0 * d * SIDE) * u * u
@@ -84,10 +89,7 @@ def test_the_record_path_matches_the_one_rank_step_bit_for_bit():
         _cone_at(alone, k + 1, dt)
         _cone_at(blocks, k + 1, dt)
         alone.step(dt)  # Floes.step: kick, drift, forces of the whole field at once, kick
-        system.kick(0.5 * dt)
-        system.drift(dt)
-        system.compute_forces(no_bodies, alone.time, dt)
-        system.kick(0.5 * dt)
+        _step(system, k, dt, no_bodies)
     assert system.contacts > 0 and system.structure_contacts > 0, "the floes must meet each other and the cone"
     for name in ("x", "v", "q", "L", "force", "torque", "structure_load"):
         assert np.array_equal(getattr(alone, name), getattr(blocks, name)), name
@@ -143,10 +145,7 @@ def test_added_mass_lengthens_the_heave_period():
     dt, z, t = 0.005, [], []
     system.compute_forces(np.zeros((0, 13)), 0.0, dt)
     for k in range(4000):
-        system.kick(0.5 * dt)
-        system.drift(dt)
-        system.compute_forces(np.zeros((0, 13)), (k + 1) * dt, dt)
-        system.kick(0.5 * dt)
+        _step(system, k, dt)
         z.append(floes.x[0, 2])
         t.append((k + 1) * dt)
     z = np.asarray(z) - np.mean(z)
