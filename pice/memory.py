@@ -29,6 +29,9 @@ def element_count(job) -> int:
     ice = job.ice
     d = ice.element_diameter
     layers = 1 if ice.element_volume == "cell" else layer_count(thickness=ice.thickness, element_diameter=d)
+    if job.floes is not None and job.floes.breakable:  # at most the lattice over the floes' area
+        x0, y0, x1, y1 = job.floes.area
+        return lattice_count(length=x1 - x0, width=y1 - y0, d=d, n_layers=layers)
     return lattice_count(length=ice.length, width=ice.width, d=d, n_layers=layers)
 
 
@@ -54,7 +57,8 @@ def bytes_per_element(job, base_dir=None) -> float:
     from .scenes.level_ice import build_level_ice
 
     d = job.ice.element_diameter
-    small = job.model_copy(update={"ice": job.ice.model_copy(update={"length": 3.0 * d, "width": 3.0 * d})})
+    small = job.model_copy(update={"ice": job.ice.model_copy(update={"length": 3.0 * d, "width": 3.0 * d}),
+                                   "floes": None})  # breakable floes: the same lattice
     p, _ = build_level_ice(small)
     p.allocate_dynamic(_wall_entries(job, base_dir), len(job.bodies))
     return sum(a.nbytes for a in vars(p).values() if isinstance(a, np.ndarray)) / p.n
@@ -123,12 +127,16 @@ def refuse_oversized(job, comm, base_dir=None) -> None:
             return
         ice = job.ice
         key, value = ("ice.length", ice.length) if ice.length >= ice.width else ("ice.width", ice.width)
+        fix = "shorten the sheet (ice.length, ice.width)"
+        if job.floes is not None and job.floes.breakable:  # the floes' area sets the lattice
+            x0, y0, x1, y1 = job.floes.area
+            key, value, fix = "floes.area", max(x1 - x0, y1 - y0), "shrink floes.area"
         # the ranks sharing this machine are named only when they are what exceeds it, so that one rank
         # and several give the same line for a sheet too large for any of them
         share = f"; its {ranks} ranks on this machine need {_size(need * ranks)}" if need <= available else ""
         raise JobError(f"{job.source}: {key} = {value:g}: the sheet of {n:.4g} elements needs {_size(need)} of "
                        f"particle arrays on each rank at set-up (every rank builds the whole sheet){share}, more than "
-                       f"the {_size(available)} available on this machine; shorten the sheet (ice.length, "
-                       "ice.width) or use larger elements (ice.element_diameter)")
+                       f"the {_size(available)} available on this machine; {fix} or use larger elements "
+                       "(ice.element_diameter)")
 
     on_root(comm, check)

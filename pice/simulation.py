@@ -76,7 +76,8 @@ class Simulation:
         self.gravity = job.gravity
         self.walls = WallTerm(job, default_kn=self.contact_law.kn, base_dir=base_dir) if job.walls else None
         self._set_up_bodies(base_dir)
-        self.floes = floes_from_job(job, self.hulls, self.poses, comm=self.comm) if job.floes is not None else None
+        rigid = job.floes is not None and not job.floes.breakable  # breakable floes are elements of the sheet
+        self.floes = floes_from_job(job, self.hulls, self.poses, comm=self.comm) if rigid else None
         p.allocate_dynamic(len(self.walls.kinds) if self.walls else 0, len(self.hulls))
         p.heave_damping = heave_damping(job, p)
         apply_loads_and_fixes(job, p, spacing=self.sheet.spacing)

@@ -1,6 +1,7 @@
 """The bad-input table (not a test module): broken jobs, each refused with ONE line
-``FILE: key = value: what is expected``, exit status 2 and nothing written, and the helpers that
-write a case's files and check its error lines.
+``FILE: key = value: what is expected``, exit status 2 and nothing written. The job it starts from,
+the scene fragments and the helpers that write a case's files and check its lines are in
+tests/bad_job_kit.py.
 
 Run by tests/unit/test_job_errors.py on one rank (``pice run`` and ``pice check`` in-process) and by
 tests/parallel/test_job_errors_two_ranks.py under ``mpiexec -n 2`` (the same cases, the same line
@@ -27,112 +28,9 @@ inside geometry; anything above the water that the physics assumes is below it; 
 
 from __future__ import annotations
 
-import dataclasses
-import pathlib
 import re
 
-import pytest
-
-# A tiny valid job (12 elements, one layer), with the stiffness and strengths of jobs/level_ice_demo.toml.
-BASE = """\
-[run]
-name = "tiny"
-duration = 0.01
-snapshots = 1
-
-[ice]
-density = 920.0
-thickness = 1.0
-element_diameter = 1.0
-length = 4.0
-width = 3.0
-youngs_modulus = 1.0e9
-poissons_ratio = 0.3
-flexural_strength = 0.5e6
-compressive_strength = 2.0e6
-
-[bond]
-damping_ratio = 0.05
-
-[contact]
-restitution = 0.3
-friction = 0.15
-"""
-
-
-def sub(old: str, new: str, text: str = BASE) -> str:
-    """``text`` with the one line ``old`` replaced by ``new`` ('' removes it)."""
-    lines = text.splitlines(keepends=True)
-    hits = [i for i, line in enumerate(lines) if line.rstrip("\n") == old]
-    assert len(hits) == 1, f"{old!r} is not exactly one line of the base job"
-    lines[hits[0]] = new + "\n" if new else ""
-    return "".join(lines)
-
-
-def add(section: str, line: str, text: str = BASE) -> str:
-    """``text`` with ``line`` added at the top of ``[section]`` ('' = the top level)."""
-    if not section:
-        return line + "\n" + text
-    header = f"[{section}]\n"
-    assert header in text, section
-    return text.replace(header, header + line + "\n", 1)
-
-
-@dataclasses.dataclass
-class Case:
-    id: str
-    toml: str | bytes | None  # None: the job file does not exist; bytes: written as they are
-    expect: list  # one entry per error line: a list of substrings / compiled regexes the line must contain
-    files: dict = dataclasses.field(default_factory=dict)  # extra input files next to the job
-    setup: bool = False  # fails during set-up (after validation), not in pice/job/
-
-
-def case(id, toml, *expect, files=None, setup=False, lines=None):
-    """One broken job. ``expect``: substrings of its one error line; ``lines``: several lines instead."""
-    return Case(id, toml, lines or [list(expect)], files or {}, setup)
-
-
-PLANE = '[[walls]]\ntype = "plane"\npoint = [0.0, 0.0, -5.0]\n'
-WATER = "[water]\ndepth = 50.0\n"
-NO_ICE = BASE[:BASE.index("[ice]")] + BASE[BASE.index("[bond]"):]
-FLOES = "[floes]\narea = [0.0, 0.0, 100.0, 50.0]\nconcentration = 0.5\n"
-WAVES = '[waves]\nspectrum = "regular"\nheight = 1.0\nperiod = 8.0\n'
-BODY = """[[bodies]]
-name = "barge"
-hull = {type = "box", size = [10.0, 8.0, 4.0]}
-mass = "balance"
-inertia = [1.0e7, 2.0e7, 3.0e7]
-position = [12.0, 1.5, 0.0]
-"""
-MOORING = """[[moorings]]
-body = "barge"
-fairleads = [[17.0, 1.5, -2.0]]
-headings = [0.0]
-anchor_depth = 48.0
-pretension = 5.0e3
-[[moorings.segments]]
-length = 100.0
-ea = 1.0e8
-diameter = 0.05
-wet_weight = 100.0
-"""
-BUOY = """[[bodies]]
-name = "buoy"
-hull = {type = "buoy", d_max = 9.0, alpha = 45.0, height = 3.0}
-mass = "shell"
-shell_thickness = 0.0619
-position = "afloat"
-"""
-SHIP = """[[bodies]]
-name = "uikku"
-hull = {type = "ship", length = 150.0, midbody = 67.5, breadth = 22.2, draft = 9.5, waterline_angle = 25.2, stem_angle = 29.7}
-mass = 2.1e7
-inertia = [1.0e9, 3.0e10, 3.0e10]
-position = [200.0, 0.0, 0.0]
-motion = "prescribed"
-velocity = [[0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]]
-"""
-NUMBER_S = r"\d+(\.\d+)?(e-?\d+)? s"  # a time in seconds as printed
+from bad_job_kit import BASE, BODY, BUOY, FLOES, MOORING, NO_ICE, NUMBER_S, PLANE, SHIP, WATER, WAVES, add, case, sub
 
 CASES = [
     # --- unknown keys (pydantic extra="forbid"): the message lists the allowed keys
@@ -351,48 +249,30 @@ CASES = [
          "floes.sides"),
     case("floe_area_inverted", NO_ICE + WATER + FLOES.replace("[0.0, 0.0, 100.0, 50.0]", "[100.0, 0.0, 0.0, 50.0]"),
          "floes.area = [100.0, 0.0, 0.0, 50.0]", "x1 > x0"),
-    case("waves_regular_with_period_kind", BASE + WATER + WAVES + 'period_kind = "mean"\n',
+    case("waves_regular_with_period_kind", NO_ICE + WATER + FLOES + WAVES + 'period_kind = "mean"\n',
          "a regular wave has one period"),
+    case("waves_on_level_ice_alone", BASE + WATER + WAVES, "waves = (absent): nothing in this scene feels waves",
+         "drop [waves]"),
+    case("waves_on_breakable_floes", sub("length = 4.0", "", sub("width = 3.0", "")) + WATER + FLOES
+         + "breakable = true\n" + WAVES, "waves = (absent): breakable floes are level-ice elements",
+         "drop floes.breakable"),
+    # --- breakable floes: the floe field built of [ice] elements (pice/scenes/bonded_floes.py)
+    case("breakable_floes_without_ice", NO_ICE + WATER + FLOES + "breakable = true\n",
+         "ice = (absent): missing: breakable floes (floes.breakable = true) are built of [ice] elements"),
+    case("breakable_floes_with_rigid_keys", BASE + WATER + FLOES + "breakable = true\nthickness = [1.0, 1.2]\n",
+         "floes.thickness = [1.0, 1.2]: a key of rigid floes (given: thickness)", "drop them"),
+    case("breakable_floes_with_sheet_keys", BASE + WATER + FLOES + "breakable = true\n",
+         lines=[["ice.length = 4.0: the floe field places breakable floes", "drop ice.length"],
+                ["ice.width = 3.0: the floe field places breakable floes", "drop ice.width"]]),
+    case("breakable_floes_confined", sub("length = 4.0", "", sub("width = 3.0", "")) + WATER + FLOES
+         + 'breakable = true\nsides = "confined"\n', "floes.sides = 'confined'", "give two planes",
+         "point = [0, 0, 0] normal = [0, 1, 0] and point = [0, 50, 0] normal = [0, -1, 0]"),
+    case("breakable_floes_too_small", sub("length = 4.0", "", sub("width = 3.0", "")) + WATER
+         + FLOES.replace("concentration = 0.5", "concentration = 0.5\nsize = [2.0, 2.5]") + "breakable = true\n",
+         "floes: ", "hold no element of diameter 1 m", "use smaller elements", setup=True),
     # --- genuinely several problems: one line each
     case("two_bad_values", sub("density = 920.0", "density = -3.0", sub("thickness = 1.0", "thickness = -1.0")),
          lines=[["ice.density = -3.0: must be > 0 kg/m^3"], ["ice.thickness = -1.0: must be > 0 m"]]),
     case("two_missing_rules", sub("flexural_strength = 0.5e6", "", sub("youngs_modulus = 1.0e9", "")),
          lines=[["bond.normal_stiffness = (absent): missing"], ["bond.normal_strength = (absent): missing"]]),
 ]
-
-
-def params(cases):
-    """pytest parameters of the cases, the validation ones marked ``nojit``."""
-    return [pytest.param(c, id=c.id, marks=() if c.setup else pytest.mark.nojit) for c in cases]
-
-
-def write_job(folder: pathlib.Path, c: Case) -> pathlib.Path:
-    """The case's job file (and extra input files) in ``folder``; returns the job's path."""
-    path = folder / ("x.toml" if c.toml is not None else "missing.toml")
-    if isinstance(c.toml, bytes):
-        path.write_bytes(c.toml)
-    elif c.toml is not None:
-        path.write_text(c.toml, encoding="utf-8")
-    for name, data in c.files.items():
-        (folder / name).write_bytes(data)
-    return path
-
-
-def inputs(c: Case) -> set[str]:
-    """Names of the files the case writes (nothing else may be in its folder afterwards)."""
-    return ({"x.toml"} if c.toml is not None else set()) | set(c.files)
-
-
-def check_error_lines(err: str, path: pathlib.Path, c: Case) -> None:
-    """``err`` is the case's lines: each starts with the job's path and holds what the case expects."""
-    assert "Traceback" not in err, err
-    assert err.endswith("\n"), repr(err)
-    lines = err.splitlines()
-    assert len(lines) == len(c.expect), f"expected {len(c.expect)} line(s), got:\n{err}"
-    for line, expect in zip(lines, c.expect):
-        assert line.startswith(f"{path}: "), line
-        for part in expect:
-            if isinstance(part, re.Pattern):
-                assert part.search(line), f"{part.pattern!r} not in {line!r}"
-            else:
-                assert part in line, f"{part!r} not in {line!r}"

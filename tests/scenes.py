@@ -225,3 +225,50 @@ position = [0.0, 0.0, 0.0]
 motion = "prescribed"
 velocity = [[0.0, -2.0, 0.0, 0.0, 0.0, 0.0, 0.0]]
 """
+
+
+def bonded_floe_job(*, wall_x: float = 0.0, duration: float = 1.0, speed: float = 1.0, current: float = 1.0,
+                    skin: float = 0.05, series_every: int = 200, snapshots: int = 3) -> str:
+    """Breakable floes (issue 14): about three 8-10 m floes of 0.5 m plate cells (1 GPa, sigma_f
+    0.5 MPa) in a 30 m x 12 m area ending at x = -0.2 m, drifting at `speed` [m/s] in a `current`
+    [m/s] (skin drag coefficient `skin`) against a vertical plane at x = `wall_x` [m]."""
+    return f"""
+[run]
+name = "bonded_floes"
+duration = {duration!r}
+series_every = {series_every}
+snapshots = {snapshots}
+
+[water]
+density = 1025.0
+current = [{current!r}, 0.0]
+skin_drag_coefficient = {skin!r}
+
+[floes]
+area = [-30.2, -6.0, -0.2, 6.0]
+concentration = 0.6
+size = [8.0, 10.0]
+seed = 2
+velocity = [{speed!r}, 0.0]
+breakable = true
+
+[ice]
+thickness = 0.5
+element_diameter = 1.0
+element_volume = "cell"
+youngs_modulus = 1.0e9
+flexural_strength = 0.5e6
+compressive_strength = 2.5e6
+
+[bond]
+damping_ratio = 0.1
+
+[contact]
+friction = 0.15
+
+[[walls]]
+type = "plane"
+point = [{wall_x!r}, 0.0, 0.0]
+normal = [-1.0, 0.0, 0.0]
+friction = 0.15
+"""

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import model_validator
+from pydantic import StrictBool, model_validator
 
 from .types import Real, Section, Vec2, count, quantity, vector
 
@@ -26,7 +26,11 @@ class FloesSpec(Section):
     """[floes]: a random field of rigid floes, right prisms over convex polygons (scenes/floe_field.py),
     drawn from ``seed``: equivalent diameters uniform in ``size``, thicknesses uniform in ``thickness``,
     covering ``concentration`` of ``area`` = [x0, y0, x1, y1]. ``sides = "confined"`` puts fixed walls
-    along the drift at y0 and y1 (seed 003's "tight" field); "free" leaves them open."""
+    along the drift at y0 and y1 (seed 003's "tight" field); "free" leaves them open.
+
+``breakable = true``: the same field, each floe built of the bonded elements of [ice] (its material,
+element, bonds and contact) so that a floe can break; the keys of rigid floes are then refused
+(scenes/bonded_floes.py, docs/broken_ice.md "Breakable floes")."""
 
     area: vector(tuple[Real, Real, Real, Real], "m")
     concentration: quantity("", lt=1.0)
@@ -43,6 +47,7 @@ class FloesSpec(Section):
     step_fraction: quantity("", le=0.2) = 0.1    # dt "auto": this fraction of the shortest contact, m_eff / c_n
                                                  # (docs/broken_ice.md, "The time step": 0.02-0.1 agree)
     contact: FloeContactSpec = FloeContactSpec()
+    breakable: StrictBool = False  # bonded floes of [ice] elements instead of rigid prisms
 
     @model_validator(mode="after")
     def _field(self):
@@ -53,7 +58,18 @@ class FloesSpec(Section):
             lo, hi = getattr(self, key)
             if not 0.0 < lo <= hi:
                 raise ValueError(f"{key}: give [smallest, largest] with 0 < smallest <= largest (m)")
+        if self.breakable:
+            rigid = sorted(RIGID_ONLY & self.model_fields_set)
+            if rigid:
+                raise ValueError(f"{rigid[0]}: a key of rigid floes (given: {', '.join(rigid)}); breakable floes are "
+                                 "bonded elements of [ice], which sets their thickness, density, contact and drag: "
+                                 "drop them")
         return self
+
+
+# keys that describe rigid floes alone (physics/floes.py); bonded floes take [ice], [bond], [contact]
+RIGID_ONLY = frozenset({"thickness", "density", "skin_drag_coefficient", "form_drag_coefficient", "damping_ratio",
+                        "added_mass", "step_fraction", "contact"})
 
 
 class WavesSpec(Section):

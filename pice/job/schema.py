@@ -240,6 +240,11 @@ class Job(Section):
         if ice is None and self.walls:
             bad(("walls",), None, "[[walls]] hold level-ice elements and the job has no [ice]; drop [[walls]] (a floe "
                 "field is confined by floes.sides = \"confined\")")
+        if ice is not None and self.waves is not None and self.floes is None and not self.bodies:
+            bad(("waves",), None, "nothing in this scene feels waves: the level-ice elements do not (waves act on "
+                "rigid floes, hulls and mooring lines); drop [waves]")
+        if self.floes is not None and self.floes.breakable:
+            self._breakable_floe_rules(bad)
         if (self.floes is not None or self.waves is not None) and self.water is None:
             bad(("water",), None, "missing: [floes] and [waves] need [water] (the floes float in it, the waves "
                 "travel on it)")
@@ -259,6 +264,25 @@ class Job(Section):
         if problems:
             raise Located.group(problems)
         return self
+
+    def _breakable_floe_rules(self, bad) -> None:
+        """Breakable floes are the floe field built of [ice] elements (scenes/bonded_floes.py)."""
+        ice, floes = self.ice, self.floes
+        if ice is None:
+            bad(("ice",), None, "missing: breakable floes (floes.breakable = true) are built of [ice] elements: "
+                "give [ice] (thickness, element_diameter, youngs_modulus, flexural_strength)")
+            return
+        for key in sorted({"length", "width", "origin", "velocity", "push"} & ice.model_fields_set):
+            bad(("ice", key), getattr(ice, key), "the floe field places breakable floes (floes.area, floes.size, "
+                f"floes.velocity): drop ice.{key}")
+        if self.waves is not None:
+            bad(("waves",), None, "breakable floes are level-ice elements, which do not feel waves: drop [waves], "
+                "or make the floes rigid (drop floes.breakable)")
+        if floes.sides == "confined":
+            x0, y0, x1, y1 = floes.area
+            bad(("floes", "sides"), floes.sides, "breakable floes are held at the sides by [[walls]]: drop "
+                f"floes.sides and give two planes, point = [0, {y0:g}, 0] normal = [0, 1, 0] and "
+                f"point = [0, {y1:g}, 0] normal = [0, -1, 0]")
 
     def _ice_rules(self, bad) -> None:
         """Rules between [ice], [bond], [water] and [crushing] keys of a level-ice sheet."""

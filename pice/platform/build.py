@@ -261,6 +261,8 @@ def build_platform(job, hulls: list[Hull]) -> Platform:
     "balance" mass is resolved first, from the lines at their initial layout, and each body built once."""
     w, g = job.water, job.gravity
     sea = sea_from_job(job)
+    if sea is not None and job.ice is not None:
+        log.warning("waves: they act on the bodies and their lines; the level-ice elements feel still water")
     panel = None
     if sea is not None and len(sea.amplitude):
         peak = int(np.argmax(sea.amplitude))

@@ -15,6 +15,7 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.spatial import cKDTree
 
+from ..errors import JobError
 from ..state import BOND_HIST, KIND_ICE, MAX_BONDS, Particles
 
 LAYER_SPACING = math.sqrt(2.0 / 3.0)  # HCP layer spacing / d
@@ -105,9 +106,17 @@ def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
     r = 0.5 * d
     # a "cell" element stands for the whole thickness of the plate: one layer whatever the thickness
     n_layers = 1 if ice.element_volume == "cell" else layer_count(thickness=ice.thickness, element_diameter=d)
-    x = hcp_positions(length=ice.length, width=ice.width, d=d, n_layers=n_layers)
-    x[:, 0] += ice.origin[0]
-    x[:, 1] += ice.origin[1]
+    bonded_floes = job.floes is not None and job.floes.breakable
+    if bonded_floes:  # the floe field of [floes], built of these elements (scenes/bonded_floes.py)
+        from .bonded_floes import bonded_floe_positions
+        try:
+            x, floe = bonded_floe_positions(job.floes, ice, d=d, n_layers=n_layers)
+        except ValueError as exc:
+            raise JobError(f"{job.source}: floes: {exc}") from None
+    else:
+        x = hcp_positions(length=ice.length, width=ice.width, d=d, n_layers=n_layers)
+        x[:, 0] += ice.origin[0]
+        x[:, 1] += ice.origin[1]
     n = len(x)
     cell_area = d * d * ROW_SPACING
     layer_height = ice.thickness / n_layers
@@ -130,7 +139,7 @@ def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
             draft = ice.thickness * ice.density / job.water.density
             x[:, 2] += job.water.level - draft
     v = np.zeros((n, 3))
-    v[:, 0], v[:, 1] = ice.velocity
+    v[:, 0], v[:, 1] = job.floes.velocity if bonded_floes else ice.velocity
     slots = 6 if n_layers == 1 else MAX_BONDS  # bonds per element in the lattice: memory follows it
     p = Particles(
         gid=np.arange(n, dtype=np.int64), x=x, v=v, w=np.zeros((n, 3)),
@@ -142,6 +151,9 @@ def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
         bond_mate=np.full((n, slots), -1, dtype=np.int32),
         bond_L0=np.zeros((n, slots)), bond_hist=np.zeros((n, slots, BOND_HIST)), nlocal=n)
     pairs = cKDTree(x).query_pairs(d * (1.0 + 1e-6), output_type="ndarray")
+    if bonded_floes:  # no bond between two floes
+        from .bonded_floes import same_floe
+        pairs = same_floe(pairs, floe)
     add_bonds(p, pairs)
     geo = SheetGeometry(n_layers=n_layers, spacing=d, cell_area=cell_area, layer_height=layer_height,
                         actual_thickness=ice.thickness if ice.element_volume == "cell" and n_layers == 1

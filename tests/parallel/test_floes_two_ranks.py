@@ -52,3 +52,30 @@ def test_floes_agree_bit_for_bit_on_one_and_two_ranks(tmp_path, waves):
     assert common[-1] == steps1[-1] and len(common) >= len(steps1) - 1
     for k in KEYS:
         assert np.array_equal(one[k][ia], cont[k][ib]), k
+
+
+def test_breakable_floes_keep_the_level_ice_contract_on_two_ranks(tmp_path):
+    """Breakable floes are elements of the sheet, decomposed like it, so they keep its contract
+    (tests/parallel/test_parallel_contract.py): the front floe driven at 1 m/s into a wall 0.02 m
+    ahead of it breaks; positions by gid within 1e-9 m and the same broken bonds on 1 and 2 ranks."""
+    from scenes import bonded_floe_job, job_from_text
+
+    from pice.scenes.level_ice import build_level_ice
+
+    p, _ = build_level_ice(job_from_text(bonded_floe_job()))
+    front = float((p.x[:, 0] + p.radius).max())
+    job = tmp_path / "bonded.toml"
+    job.write_text(bonded_floe_job(wall_x=front + 0.02, duration=0.4, series_every=100))
+    final = {}
+    for ranks in (1, 2):
+        run_cmd(pice_run(job, tmp_path / f"b{ranks}.h5", ranks))
+        with h5py.File(tmp_path / f"b{ranks}.h5") as f:
+            assert f.attrs["status"] == "finished" and int(f.attrs["ranks"]) == ranks
+            last = f["snapshots"][sorted(f["snapshots"])[-1]]
+            broken = {(int(a), int(b)) for a, b in f["events/broken_bonds"][:, 2:4]}
+            final[ranks] = last["gid"][:], last["x"][:], broken
+    gid1, x1, broken1 = final[1]
+    gid2, x2, broken2 = final[2]
+    assert len(broken1) > 0, "the floe must break"
+    assert np.array_equal(gid1, gid2) and np.abs(x2 - x1).max() < 1e-9
+    assert broken1 == broken2

@@ -15,7 +15,8 @@ import pathlib
 import re
 
 import pytest
-from bad_jobs import CASES, Case, check_error_lines, inputs, params, write_job
+from bad_job_kit import Case, check_error_lines, inputs, params, write_job
+from bad_jobs import CASES
 from launch import need_two_ranks
 
 from pice.cli import main

@@ -14,7 +14,8 @@ from __future__ import annotations
 import re
 
 import pytest
-from bad_jobs import BASE, CASES, Case, check_error_lines, inputs, params, write_job
+from bad_job_kit import BASE, Case, check_error_lines, inputs, params, write_job
+from bad_jobs import CASES
 from scenes import REPO
 
 from pice.cli import main
@@ -90,7 +91,7 @@ def test_dem_lines_that_cannot_settle_are_one_line(command, tmp_path, capsys, mo
     """A solve at set-up that cannot converge within its bound (issue 13): the DEM lines' relaxation
     to rest, capped at MAX_RELAX_NODE_STEPS node updates (here 1,000: 90 steps of the 11-node line),
     ends in one line naming moorings[0].relax, its residual and the fix; exit status 2, nothing written."""
-    from bad_jobs import BODY, MOORING, WATER
+    from bad_job_kit import BODY, MOORING, WATER
 
     from pice.platform import mooring_lines
 

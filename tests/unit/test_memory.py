@@ -5,7 +5,7 @@ the memory available to the ranks of this machine (MemAvailable and the cgroup, 
 from __future__ import annotations
 
 import pytest
-from bad_jobs import BASE, BODY, PLANE, WATER, sub
+from bad_job_kit import BASE, BODY, PLANE, WATER, sub
 from scenes import job_from_text
 
 from pice import memory
