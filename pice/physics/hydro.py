@@ -27,9 +27,21 @@ def water_from_job(job) -> Water | None:
     if w is None:
         return None
     skin = w.ice_drag == "skin"
+    # the underside's stress is shared by the sheet's layers of spheres: each submerged element takes
+    # its footprint's share (kernels/hydro.py), so that the sheet feels it once, whatever its layers
     return Water(level=float(w.level), density=float(w.density), current_x=float(w.current[0]),
                  current_y=float(w.current[1]), drag_coefficient=0.0 if skin else float(w.drag_coefficient),
-                 skin_drag_coefficient=float(w.skin_drag_coefficient) if skin else 0.0)
+                 skin_drag_coefficient=float(w.skin_drag_coefficient) / sphere_layers(job) if skin else 0.0)
+
+
+def sphere_layers(job) -> int:
+    """HCP layers of the job's sheet (1 for plate cells or no sheet): those sharing one footprint."""
+    from ..scenes.level_ice import layer_count
+
+    ice = job.ice
+    if ice is None or ice.element_volume == "cell":
+        return 1
+    return layer_count(thickness=ice.thickness, element_diameter=ice.element_diameter)
 
 
 def heave_damping(job, particles) -> np.ndarray:
