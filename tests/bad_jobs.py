@@ -173,6 +173,18 @@ CASES = [
          "bodies[0].hull.alpha = 90.0: must be < 90 deg"),
     case("buoy_key_on_a_box", BASE + WATER + BODY.replace("size = [10.0, 8.0, 4.0]}", "size = [10.0, 8.0, 4.0], d_max = 9.0}"),
          "bodies[0].hull.d_max = 9.0: only for type = \"buoy\"; drop it (this hull is 'box')"),
+    case("fairleads_and_inset", BASE + WATER + BODY + MOORING.replace("headings = [0.0]\n",
+                                                                      "headings = [0.0]\nfairlead_inset = 0.5\n"),
+         "moorings[0].fairleads", "give either fairleads", "or fairlead_inset", "not both or neither"),
+    case("fairlead_inset_on_a_box", BASE + WATER + BODY + MOORING.replace("fairleads = [[17.0, 1.5, -2.0]]\n",
+                                                                          "fairlead_inset = 0.5\n"),
+         "moorings[0].fairlead_inset = 0.5: puts the fairleads on the keel of a hull of revolution",
+         "give fairleads = [[x, y, z], ...] (m) instead"),
+    case("anchor_on_the_seabed_two_depths", BASE + WATER + BODY + MOORING.replace(
+         "fairleads = [[17.0, 1.5, -2.0]]\nheadings = [0.0]\n", "fairleads = [[17.0, 1.5, -2.0], [7.0, 1.5, -1.0]]\n"
+         "headings = [0.0, 180.0]\n").replace("anchor_depth = 48.0", 'anchor_depth = "seabed"'),
+         "moorings[0].anchor_depth = \"seabed\": needs every fairlead at one depth above the seabed",
+         "give anchor_depth in m", setup=True),
     # --- the ship of seed 002 (issue 15): a "ship" hull from Table 1's main dimensions (pice/platform/ship.py)
     case("ship_midbody_longer_than_length", BASE + WATER + SHIP.replace("midbody = 67.5", "midbody = 160.0"),
          "bodies[0].hull.midbody = 160.0: must be < length = 150 m"),

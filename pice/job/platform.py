@@ -219,15 +219,21 @@ class SegmentSpec(Section):
 
 
 class MooringSpec(Section):
-    """[[moorings]]: a spread of lines from fairleads on one body to anchors placed by the layout solve."""
+    """[[moorings]]: a spread of lines from fairleads on one body to anchors placed by the layout solve.
+
+    The fairleads are points in space at t = 0 (``fairleads``), or, with ``fairlead_inset``, on the
+    body's keel: one per heading, on the lowest ring of a hull of revolution, ``fairlead_inset`` m in
+    from its edge towards the axis, wherever the body floats (seed 004's d_m,f, Table 4-3). The
+    anchors lie ``anchor_depth`` m below the fairleads, or on the seabed with "seabed"."""
 
     body: str
     model: Literal["dem", "quasi_static"] = "dem"
-    fairleads: tuple[vector(Vec3, "m"), ...] = Field(min_length=1)  # space frame at t = 0
+    fairleads: Optional[tuple[vector(Vec3, "m"), ...]] = Field(default=None, min_length=1)  # space frame, t = 0
+    fairlead_inset: Optional[quantity("m", gt=None, ge=0.0)] = None  # or: on the keel's edge, this far in
     headings: tuple[Real, ...] = Field(min_length=1)                # outward heading of each fairlead [deg]
     lines_per_fairlead: count(1) = 1
     spread: quantity("deg", gt=None, ge=0.0) = 5.0                  # between the lines of one fairlead
-    anchor_depth: quantity("m")                                     # anchor below its fairlead
+    anchor_depth: Union[Literal["seabed"], quantity("m")]           # anchor below its fairlead, or on the seabed
     pretension: quantity("N")                                       # fairlead tension at rest
     segments: tuple[SegmentSpec, ...] = Field(min_length=1)
     element_length: quantity("m") = 10.0                            # DEM: longest element
@@ -238,11 +244,14 @@ class MooringSpec(Section):
 
     @model_validator(mode="after")
     def _layout(self):
-        if len(self.headings) != len(self.fairleads):
+        if (self.fairleads is None) == (self.fairlead_inset is None):
+            raise ValueError("fairleads: give either fairleads = [[x, y, z], ...] (m, in space at t = 0) or "
+                             "fairlead_inset (m: on the keel's edge, one per heading), not both or neither")
+        if self.fairleads is not None and len(self.headings) != len(self.fairleads):
             raise ValueError(f"headings: must have one heading per fairlead ({len(self.fairleads)}), "
                              f"not {len(self.headings)}")
         total = sum(s.length for s in self.segments)
-        if total <= self.anchor_depth:
+        if self.anchor_depth != "seabed" and total <= self.anchor_depth:
             raise ValueError(f"anchor_depth: must be < the line's length {total:g} m (the line cannot reach)")
         if self.model == "dem" and self.element_length > max(s.length for s in self.segments):
             raise ValueError(f"element_length: must be <= the longest segment "
@@ -251,7 +260,7 @@ class MooringSpec(Section):
 
     @property
     def n_lines(self) -> int:
-        return len(self.fairleads) * self.lines_per_fairlead
+        return len(self.headings) * self.lines_per_fairlead
 
 
 def check_platform(job, bad) -> None:
@@ -269,15 +278,19 @@ def check_platform(job, bad) -> None:
             bad(("moorings", k, "body"), m.body, f"must name one of the [[bodies]]: {', '.join(names) or '(none)'}")
         if job.water is None or job.water.depth is None:
             bad(("moorings", k), m.body, "mooring lines need water.depth [m] (the seabed) in [water]")
-        elif m.fairleads and any(f[2] - m.anchor_depth < job.water.level - job.water.depth - 1e-6
-                                 for f in m.fairleads):
+        elif m.fairleads and m.anchor_depth != "seabed" and any(
+                f[2] - m.anchor_depth < job.water.level - job.water.depth - 1e-6 for f in m.fairleads):
             bad(("moorings", k, "anchor_depth"), m.anchor_depth,
                 f"puts an anchor below the seabed at {job.water.level - job.water.depth:g} m (water.depth = "
                 f"{job.water.depth:g} m)")
         if job.gravity == 0.0:
             bad(("moorings", k), m.body, "mooring lines need gravity > 0 (their catenary)")
+        if m.fairlead_inset is not None and m.body in names and job.bodies[names.index(m.body)].hull.type not in (
+                "revolved", "buoy"):
+            bad(("moorings", k, "fairlead_inset"), m.fairlead_inset, "puts the fairleads on the keel of a hull of "
+                "revolution (hull.type \"revolved\" or \"buoy\"); give fairleads = [[x, y, z], ...] (m) instead")
         if job.water is not None:
-            for j, f in enumerate(m.fairleads):
+            for j, f in enumerate(m.fairleads or ()):
                 if f[2] > job.water.level:
                     bad(("moorings", k, "fairleads", j), list(f),
                         f"is above the water (z > water.level = {job.water.level:g} m): a line weighs its "

@@ -91,11 +91,47 @@ def initial_poses(job) -> np.ndarray:
         poses[k, 3:7] = heading_quaternion(b.heading)
         if b.position == "afloat":
             v, t = hull_mesh(job, k)
-            poses[k, :3] = afloat_position(job, k, v, t, _braces(b), poses[k, 3:7],
-                                           mass=mass_and_inertia(job, k, v, t)[0], pull_z=_layout_pull_z(job, k))
+            mass = mass_and_inertia(job, k, v, t)[0]
+            # fairleads on the keel move with the body, and their lines' pull with them: iterate the
+            # height to 1e-9 m (the pull changes by ~1e-3 of the waterplane's stiffness per metre)
+            keel = any(m.body == b.name and m.fairleads is None for m in job.moorings)
+            for _ in range(AFLOAT_ITERATIONS if keel else 1):
+                z = poses[k, 2]
+                poses[k, :3] = afloat_position(job, k, v, t, _braces(b), poses[k, 3:7], mass=mass,
+                                               pull_z=_layout_pull_z(job, k, poses[k]))
+                if abs(poses[k, 2] - z) < 1e-9:
+                    break
+            else:
+                if keel:
+                    raise JobError(f"{job.source}: bodies[{k}].position = \"afloat\": its height with its keel "
+                                   f"fairleads did not settle in {AFLOAT_ITERATIONS} iterations; give the "
+                                   "fairleads in space (moorings.fairleads)")
         else:
             poses[k, :3] = b.position
     return poses
+
+
+AFLOAT_ITERATIONS = 50
+
+
+def _fairleads(job, k: int, pose: np.ndarray) -> np.ndarray:
+    """(n_headings, 3) fairleads [m] of moorings[k] in space at t = 0, its body at ``pose``: as given,
+    or on the keel (fairlead_inset: the lowest ring of the hull of revolution, that far in from its
+    edge, along each heading), carried by the pose."""
+    spec = job.moorings[k]
+    if spec.fairleads is not None:
+        return np.asarray(spec.fairleads, float)
+    ib = [b.name for b in job.bodies].index(spec.body)
+    prof = body_profile(job.bodies[ib].hull)
+    z0, r0 = prof[int(np.argmin(prof[:, 0]))]
+    r = r0 - spec.fairlead_inset
+    if r < 0.0:  # a narrow keel (a design of a sweep): the fairleads on the axis
+        log.warning("moorings[%d].fairlead_inset = %g m is more than the keel's radius, %.4g m: the fairleads are "
+                    "on the hull's axis", k, spec.fairlead_inset, r0)
+        r = 0.0
+    h = np.radians(np.asarray(spec.headings, float))
+    body = np.column_stack([r * np.cos(h), r * np.sin(h), np.full(len(h), z0)])
+    return pose[:3] + body @ rotation_matrix(pose[3:7]).T
 
 
 def _braces(spec) -> np.ndarray:
@@ -175,17 +211,27 @@ def _lines(spec, lines, segs, w, seabed_z: float):
     return lines_obj
 
 
-def _layout(job, k: int):
+def _layout(job, k: int, pose: np.ndarray):
     """(lines as (anchor, fairlead, segments), the layout LineState, the anchor distance [m], the
-    LineSegments) of moorings[k] by the layout solve (layout.spread_mooring); JobError when it fails."""
+    LineSegments) of moorings[k], its body at ``pose``, by the layout solve (layout.spread_mooring);
+    JobError when it fails."""
     spec, w = job.moorings[k], job.water
     segs = _segments(spec, w.density, job.gravity)
     where = f"{job.source}: moorings[{k}]"
+    fairleads = _fairleads(job, k, pose)
+    height = spec.anchor_depth
+    if height == "seabed":
+        above = fairleads[:, 2] - (w.level - w.depth)
+        if np.ptp(above) > 1e-9 or above.min() <= 0.0:
+            raise JobError(f"{where}.anchor_depth = \"seabed\": needs every fairlead at one depth above the "
+                           f"seabed (they lie {above.min():.4g} to {above.max():.4g} m above it); give anchor_depth "
+                           "in m")
+        height = float(above[0])
     try:
-        lines, state, dist = spread_mooring(fairleads_body=np.asarray(spec.fairleads, float),
+        lines, state, dist = spread_mooring(fairleads_body=fairleads,
                                             bundle_headings_deg=spec.headings, spread_deg=spec.spread,
                                             lines_per_bundle=spec.lines_per_fairlead,
-                                            fairlead_to_anchor_height=spec.anchor_depth,
+                                            fairlead_to_anchor_height=height,
                                             pretension=spec.pretension, segments=segs, rho_w=w.density,
                                             seabed_z=w.level - w.depth)
     except LayoutError as exc:
@@ -198,13 +244,14 @@ def _layout(job, k: int):
     return lines, state, dist, segs
 
 
-def _layout_pull_z(job, ib: int) -> float:
+def _layout_pull_z(job, ib: int, pose: np.ndarray) -> float:
     """The vertical pull [N] (< 0: down) of every line on bodies[ib] at its layout (the quasi-static
-    catenary at the pretension), before any line is built: a body "afloat" floats with it."""
+    catenary at the pretension), the body at ``pose``, before any line is built: a body "afloat"
+    floats with it."""
     name, out = job.bodies[ib].name, 0.0
     for k, spec in enumerate(job.moorings):
         if spec.body == name:
-            lines, _, _, segs = _layout(job, k)
+            lines, _, _, segs = _layout(job, k, pose)
             cat = [Segment(s.length, s.wet_weight, s.ea) for s in segs]
             quasi = QuasiStaticLines([a for a, _, _ in lines], [f for _, f, _ in lines], [cat] * len(lines),
                                      seabed=True, seabed_z=job.water.level - job.water.depth)
@@ -219,7 +266,7 @@ def _mooring_group(job, k: int, poses: np.ndarray) -> MooringGroup:
     ib = [b.name for b in job.bodies].index(spec.body)
     where = f"{job.source}: moorings[{k}]"
     seabed_z = w.level - w.depth
-    lines, state, dist, segs = _layout(job, k)
+    lines, state, dist, segs = _layout(job, k, poses[ib])
     above = min(a[2] for a, _, _ in lines) - seabed_z
     log.info("moorings[%d] (%s): %d lines, anchors %.1f m out horizontally and %.1f m above the seabed; at the "
              "%.4g N pretension the line %s (horizontal tension %.4g N, vertical pull on the anchor %.4g N, "

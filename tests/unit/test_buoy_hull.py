@@ -91,3 +91,30 @@ def test_the_buoy_hull_is_varied_like_any_key(tmp_path):
                 initial_poses(v.job)
         else:
             assert initial_poses(v.job)[0, 2] < 0.0
+
+
+@pytest.mark.parametrize("d_max, alpha", [(9.0, 45.0), (10.5, 70.0), (7.0, 60.0)])
+def test_each_design_has_its_fairlead_on_its_keel_and_its_anchor_on_the_seabed(d_max, alpha):
+    """Table 4-3 and Eq. 4-32 for every design: the fairlead 0.5 m in from the keel's edge (d_m,f) on
+    the keel, upstream; the anchor on the seabed, so the fairlead lies d_w - d_s above it, d_s the
+    design's draft with its chain. The draft is the fixed point of floating with the chain's pull at
+    that draft: weight = buoyancy + pull, to 1e-9 m of height (the iteration's tolerance)."""
+    from pice.platform.build import _layout_pull_z, build_platform, hulls_from_job
+    from pice.platform.body_setup import afloat_position
+    from pice.platform.hull_buoyancy import BRACE_RECORD
+
+    data = tomllib.loads(JOB.read_text())
+    data["bodies"][0]["hull"].update(d_max=d_max, alpha=alpha)
+    data["moorings"][0]["model"] = "quasi_static"
+    job = parse_job(data, source="design")
+    v, t = hull_mesh(job, 0)
+    pose = initial_poses(job)[0]
+    keel_z, keel_r = body_profile(job.bodies[0].hull)[0]
+    draft = -(pose[2] + keel_z)
+    lines = build_platform(job, hulls_from_job(job, default_kn=1e8, reach=0.5)).groups[0].lines
+    fairlead, anchor = lines.fairlead_x[0], lines.anchors_x[0]
+    np.testing.assert_allclose(fairlead, [-(keel_r - 0.5), 0.0, -draft], atol=1e-9)
+    assert anchor[2] == pytest.approx(-30.0, abs=1e-9) and anchor[0] < fairlead[0]  # upstream, on the seabed
+    assert fairlead[2] - anchor[2] == pytest.approx(30.0 - draft, abs=1e-9)         # Eq. 4-32
+    again = afloat_position(job, 0, v, t, np.zeros(0, BRACE_RECORD), pose[3:7], mass=mass_and_inertia(job, 0, v, t)[0], pull_z=_layout_pull_z(job, 0, pose))
+    assert again[2] == pytest.approx(pose[2], abs=1e-8)
