@@ -35,7 +35,7 @@ from bad_job_kit import BASE, BODY, BUOY, FLOES, MOORING, NO_ICE, NUMBER_S, PLAN
 CASES = [
     # --- unknown keys (pydantic extra="forbid"): the message lists the allowed keys
     case("unknown_top_level_key", add("", 'colour = "blue"'),
-         "colour = 'blue': unknown key; expected one of: run, gravity, water, ice, floes, waves, bond, contact, walls"),
+         "colour = 'blue': unknown key; expected one of: run, gravity, water, ice, floes, waves, keel, bond, contact, walls"),
     case("unknown_key_in_section", add("ice", "thicknes = 2.0"),
          "ice.thicknes = 2.0: unknown key; expected one of: density, thickness, element_diameter, length"),
     case("unknown_key_in_wall", BASE + PLANE + "normal = [0.0, 0.0, 1.0]\ncolor = 3\n",
@@ -185,6 +185,16 @@ CASES = [
          "headings = [0.0, 180.0]\n").replace("anchor_depth = 48.0", 'anchor_depth = "seabed"'),
          "moorings[0].anchor_depth = \"seabed\": needs every fairlead at one depth above the seabed",
          "give anchor_depth in m", setup=True),
+    # --- the ridge keel of seed 002 (issue 15): rubble blocks under a cover (pice/job/keel.py)
+    case("keel_without_water", NO_ICE + "[keel]\nwidth = 17.3\nlength = 30.0\n",
+         "water = (absent): missing: a [keel]'s blocks rise against its cover by their buoyancy: give [water]"),
+    case("keel_with_floes", NO_ICE + WATER + FLOES + "[keel]\nwidth = 17.3\nlength = 30.0\n",
+         "floes.area = [0.0, 0.0, 100.0, 50.0]: a [keel] scene's rigid pieces are its blocks: drop [floes]"),
+    case("keel_run_not_built", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n",
+         "keel: runs with a ridge keel are not built yet", "drop [keel]", setup=True),
+    case("keel_too_narrow", NO_ICE + WATER + "[keel]\nwidth = 12.0\nlength = 30.0\n",
+         "keel.width = 12.0: the sides at pile_angle = 30 deg meet above the keel's depth 5 m",
+         "give width >= 17.23 m (a triangle)"),
     # --- the ship of seed 002 (issue 15): a "ship" hull from Table 1's main dimensions (pice/platform/ship.py)
     case("ship_midbody_longer_than_length", BASE + WATER + SHIP.replace("midbody = 67.5", "midbody = 160.0"),
          "bodies[0].hull.midbody = 160.0: must be < length = 150 m"),

@@ -13,6 +13,7 @@ from typing import Annotated, Literal, Optional, Union
 from pydantic import Field, StrictBool, model_validator
 
 from .floes import FloesSpec, WavesSpec
+from .keel import KeelSpec
 from .messages import Located
 from .platform import BodySpec, MooringSpec, check_platform
 from .types import Bound, Real, Section, Vec2, Vec3, count, quantity, vector
@@ -211,6 +212,7 @@ class Job(Section):
     ice: Optional[IceSpec] = None      # a bonded level-ice sheet
     floes: Optional[FloesSpec] = None  # a field of rigid floes
     waves: Optional[WavesSpec] = None
+    keel: Optional[KeelSpec] = None    # a ridge keel of rubble blocks under a cover
     bond: BondSpec = BondSpec()
     contact: ContactSpec = ContactSpec()
     walls: tuple[WallSpec, ...] = ()
@@ -234,7 +236,7 @@ class Job(Section):
 
         if ice is not None:
             self._ice_rules(bad)
-        elif self.floes is None and not self.bodies:
+        elif self.floes is None and self.keel is None and not self.bodies:
             bad(("ice",), None, "missing: a scene needs ice: give [ice] (a level-ice sheet) or [floes] (broken ice), "
                 "or at least one [[bodies]] entry")
         if ice is None and self.walls:
@@ -248,6 +250,18 @@ class Job(Section):
         if (self.floes is not None or self.waves is not None) and self.water is None:
             bad(("water",), None, "missing: [floes] and [waves] need [water] (the floes float in it, the waves "
                 "travel on it)")
+        if self.keel is not None:
+            if self.water is None:
+                bad(("water",), None, "missing: a [keel]'s blocks rise against its cover by their buoyancy: give "
+                    "[water]")
+            if self.gravity == 0.0:
+                bad(("gravity",), 0.0, "a [keel]'s blocks rise against its cover by their buoyancy: give gravity > 0")
+            if self.floes is not None:
+                bad(("floes", "area"), list(self.floes.area), "a [keel] scene's rigid pieces are its blocks: drop "
+                    "[floes]")
+            if self.waves is not None:
+                bad(("waves", "spectrum"), self.waves.spectrum, "a [keel] lies under its cover in still water: drop "
+                    "[waves]")
         if run.dt != "auto" and run.dt >= run.duration:
             bad(("run", "dt"), run.dt, f"must be < run.duration = {run.duration} s")
         if self.crushing is not None:

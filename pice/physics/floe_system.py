@@ -323,3 +323,11 @@ def floe_time_step(job, system: FloeSystem | None) -> StepLimit:
                              governed_by=f"floes.step_fraction {job.floes.step_fraction:g} of the contact time "
                                          f"m_eff / c_n = {0.5 * m / law.cn:.4g} s")
     return limit
+
+
+def refuse_keel_scene(job) -> None:
+    """JobError for a job with [keel] given to a run: the ship runs through a keel are not built yet
+    (issue 15); generation is (physics/keel.generate_keel)."""
+    if job.keel is not None:
+        raise JobError(f"{job.source}: keel: runs with a ridge keel are not built yet (issue 15: the rubble's "
+                       "generation is, pice.physics.keel.generate_keel, not the ship's run through it); drop [keel]")

@@ -1,0 +1,79 @@
+"""The job's ridge keel: [keel] (seed 002, Gong, Polojärvi & Tuhkuri 2017; issue 15): rigid ice blocks
+released under water beneath a rigid cover, packed by their buoyancy and trimmed to the keel's shape
+(pice/scenes/rubble.py, pice/physics/keel.py). Absent: no keel, at no cost.
+"""
+
+from __future__ import annotations
+
+from pydantic import StrictBool, model_validator
+
+from .floes import FloeContactSpec
+from .types import Real, Section, Vec2, count, quantity, vector
+
+
+class BlocksSpec(Section):
+    """[keel.blocks]: rigid rectangular blocks, ``thickness`` thick, ``length`` uniform in [lo, hi] and
+    ``aspect`` x length wide (seed 002, Table 1: 0.3 m, 0.615; the lengths are an assumption: the seed
+    cites Kulyakhtin (2014) for their distribution but gives no numbers; docs/ridge_keel.md)."""
+
+    thickness: quantity("m") = 0.3
+    aspect: quantity("", le=1.0) = 0.615
+    length: vector(Vec2, "m") = (0.6, 1.4)
+    density: quantity("kg/m^3") = 920.0
+
+    @model_validator(mode="after")
+    def _sizes(self):
+        lo, hi = self.length
+        if not 0.0 < lo <= hi:
+            raise ValueError("length: give [shortest, longest] with 0 < shortest <= longest (m)")
+        return self
+
+
+# block-block and block-cover contact: seed 003's law (kernels/contact_law.py) with seed 002's penalty term
+# read as a stiffness in N/m, k_t at 0.6 k_n as seed 003's ratio, and a dashpot of 0.3 of critical for
+# two blocks of 1 m x 0.615 m x 0.3 m (m_eff 84.9 kg: 2 x 0.3 sqrt(84.9 x 1e7) = 1.75e4 N s/m);
+# assumptions, docs/ridge_keel.md ("Contact")
+KEEL_CONTACT = FloeContactSpec(normal_stiffness=1.0e7, damping=1.75e4, tangential_stiffness=0.6e7, friction=0.3,
+                               compressive_strength=2.5e6)
+
+
+TRIANGLE_SLACK = 0.005  # a width this fraction short of the triangle's is the triangle (its tip cut)
+
+
+class KeelSpec(Section):
+    """[keel]: a first-year ridge keel of rubble under a rigid cover spanning the basin (seed 002,
+    Figs. 1-2). Its cross-section in x-z is a trapezoid, ``width`` w at the cover's underside (z =
+    ``cover``), sides at ``pile_angle`` from the horizontal down to ``depth`` (a triangle when w = 2
+    depth / tan(pile_angle)); it runs ``length`` along y from y = ``y0``, centred on x = ``x``.
+    ``symmetry = true``: a half model, a rigid wall at y = y0 (the ship's centreline). Generation
+    (``pice keel``): blocks drawn from ``seed`` fill the keel's box, are released under water, rise
+    against the cover until their RMS speed is below ``settle_speed`` (at most ``settle_time`` of
+    simulated time), and are trimmed to the shape; the settled keel is ``file``."""
+
+    width: quantity("m")
+    length: quantity("m")
+    depth: quantity("m") = 5.0
+    pile_angle: quantity("deg", lt=90.0) = 30.0
+    x: Real = 0.0
+    y0: Real = 0.0
+    cover: Real = 0.0
+    symmetry: StrictBool = False
+    seed: count(0) = 0
+    blocks: BlocksSpec = BlocksSpec()
+    contact: FloeContactSpec = KEEL_CONTACT
+    settle_speed: quantity("m/s") = 2.0e-3
+    settle_time: quantity("s") = 120.0
+    step_fraction: quantity("", le=0.2) = 0.1  # the step: this fraction of the shortest contact, m_eff / c_n
+    file: str = ""  # the settled keel (default: beside the run file, <run>.keel.h5)
+
+    @model_validator(mode="after")
+    def _shape(self):
+        import math
+
+        bottom = self.width - 2.0 * self.depth / math.tan(math.radians(self.pile_angle))
+        if bottom < -TRIANGLE_SLACK * self.width:  # seed 002's 17.3 m rounds the triangle's 17.32 m
+            raise ValueError(f"width: the sides at pile_angle = {self.pile_angle:g} deg meet above the keel's depth "
+                             f"{self.depth:g} m; give width >= {(self.width - bottom) * (1 - TRIANGLE_SLACK):.4g} m "
+                             "(a triangle) or a "
+                             "shallower depth")
+        return self

@@ -1,0 +1,131 @@
+"""A ridge keel generated as seed 002 does it (Gong, Polojärvi & Tuhkuri 2017, section 2; issue 15):
+blocks released under water beneath a rigid cover, packed by their buoyancy until the kinetic energy
+has decayed, then trimmed to the keel's shape (scenes/rubble.py).
+
+The blocks are the broken-ice issue's rigid convex pieces (physics/floes.py, physics/floe_system.py):
+one code path, one contact law (seed 003's, [keel.contact]), the same MPI contract (every rank holds
+every block, each computes its block of them; the same bits on any rank count). The basin is walls:
+the cover (z >= keel.cover is solid, with the ice-ice friction: it holds the pile, seed 002), and the
+ends of the keel's length (y = y0 and y0 + length), where seed 002's basin walls touch the pile; along
+x the pile is free, and the trim removes what spreads past the keel's slopes.
+
+Settled: the RMS speed of the blocks below keel.settle_speed, checked every SETTLE_CHECK s of
+simulated time; a generation that has not settled after keel.settle_time is refused with the speed it
+reached.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import JobError
+from ..kernels.geometry import quat_mul
+from ..scenes.rubble import inside_keel, porosity, release_blocks
+from .floe_system import FloeSystem
+from .floes import FloeLaw, Floes, FloeWater, contact_step_limit
+
+log = logging.getLogger("pice")
+
+SETTLE_CHECK = 0.5  # [s] of simulated time between the checks of the blocks' speed
+
+
+@dataclass
+class Keel:
+    """A generated keel: its blocks (rectangles (n, 4, 2) [m] in their frames, centres (n, 3) [m],
+    attitudes (n, 4)), the time it took to settle [s], the RMS speed then [m/s], the released count
+    and the porosity of the trimmed keel (whole prism and its core 0.5 m in from the slopes and the
+    bottom)."""
+
+    rects: np.ndarray
+    x: np.ndarray
+    q: np.ndarray
+    settle_time: float
+    rms_speed: float
+    released: int
+    porosity: float
+    core_porosity: float
+
+
+def keel_law(keel) -> FloeLaw:
+    c = keel.contact
+    return FloeLaw(kn=c.normal_stiffness, cn=c.damping, kt=c.tangential_stiffness, mu=c.friction,
+                   pressure=c.compressive_strength)
+
+
+def keel_water(job) -> FloeWater:
+    """Still water for the blocks: drag on the relative velocity (the floes' skin and form drag) and
+    no waves (a keel under a cover)."""
+    w = job.water
+    return FloeWater(density=w.density, level=w.level, gravity=job.gravity, current=tuple(w.current), sea=None)
+
+
+def blocks_as_floes(keel, rects, x, q, law, water) -> Floes:
+    """Floes (rigid prisms) for the blocks: each rectangle about its centre, turned by q."""
+    b = keel.blocks
+    polygons = rects + x[:, None, :2]
+    floes = Floes(list(polygons), np.full(len(rects), b.thickness), density=b.density,
+                  base=x[:, 2] - 0.5 * b.thickness, law=law, water=water)
+    for i in range(len(rects)):  # the prism's principal frame, then the block's attitude
+        floes.q[i] = quat_mul(q[i], floes.q[i])
+    return floes
+
+
+def keel_walls(floes: Floes, keel) -> None:
+    """The cover and the basin's end walls as half-spaces (module docstring)."""
+    floes.add_wall((0.0, 0.0, 1.0), keel.cover)                      # z >= cover: the cover
+    floes.add_wall((0.0, -1.0, 0.0), -keel.y0)                       # y <= y0
+    floes.add_wall((0.0, 1.0, 0.0), keel.y0 + keel.length)           # y >= y0 + length
+
+
+def keel_step(keel, floes: Floes) -> float:
+    """The time step [s]: keel.step_fraction of the contact time m_eff / c_n of the two lightest blocks,
+    within the contact's stability limit."""
+    m = float(floes.mass.min())
+    law = floes.law
+    stable = min(contact_step_limit(law, 0.5 * m), contact_step_limit(law, m))
+    accurate = keel.step_fraction * 0.5 * m / law.cn if law.cn > 0 else math.inf
+    return min(0.5 * stable, accurate)
+
+
+def generate_keel(job, comm, *, progress=None) -> Keel:
+    """Release, settle and trim the job's keel on the ranks of ``comm`` (module docstring)."""
+    keel = job.keel
+    rects, x, q = release_blocks(keel)
+    floes = blocks_as_floes(keel, rects, x, q, keel_law(keel), keel_water(job))
+    keel_walls(floes, keel)
+    system = FloeSystem(floes, comm, [])
+    dt = keel_step(keel, floes)
+    every = max(1, int(round(SETTLE_CHECK / dt)))
+    none = np.zeros((0, 13))
+    system.compute_forces(none, 0.0, dt)
+    t, rms = 0.0, math.inf
+    while t < keel.settle_time:
+        for _ in range(every):
+            system.kick(0.5 * dt)
+            system.drift(dt)
+            t += dt
+            system.compute_forces(none, t, dt)
+            system.kick(0.5 * dt)
+        rms = math.sqrt(float((floes.v ** 2).sum(axis=1).mean()))
+        if progress is not None:
+            progress(t, rms, system.contacts)
+        if rms < keel.settle_speed:
+            break
+    else:
+        raise JobError(f"{job.source}: keel.settle_time = {keel.settle_time:g}: the blocks still move at "
+                       f"{rms:.3g} m/s RMS after {t:.4g} s, more than keel.settle_speed = {keel.settle_speed:g} "
+                       "m/s; give a longer settle_time")
+    rot = floes.q.copy()
+    keep = inside_keel(keel, floes.x)
+    body = np.array(floes.polygons)[keep]  # in each prism's principal frame, which rot turns
+    centres, turned = floes.x[keep].copy(), rot[keep]
+    p_all = porosity(keel, centres, turned, body, keel.blocks.thickness)
+    p_core = porosity(keel, centres, turned, body, keel.blocks.thickness, core=0.5)
+    log.info("keel: %d of %d blocks settled in %.4g s (RMS speed %.3g m/s) lie inside the keel; porosity %.3f "
+             "(core %.3f)", int(keep.sum()), len(rects), t, rms, p_all, p_core)
+    return Keel(body, centres, turned, t, rms, len(rects), p_all, p_core)
+

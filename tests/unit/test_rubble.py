@@ -1,0 +1,89 @@
+"""Rubble for a ridge keel (issue 15; seed 002, Gong, Polojärvi & Tuhkuri 2017): the blocks, their
+release under the cover, the keel's shape and its porosity (pice/scenes/rubble.py, physics/keel.py).
+
+References: Archimedes (a block floats at the draft rho_i / rho_w of its thickness; seed 002, Table 1:
+920 and 1010 kg/m^3, 0.3 m); the keel's trapezoid (seed 002, Fig. 2: depth 5 m, pile angle 30 deg,
+a triangle at w = 17.3 m); the volume of a box inside the keel (Monte Carlo porosity).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pice.job import parse_job
+from pice.physics.keel import blocks_as_floes, keel_law, keel_step, keel_water
+from pice.scenes.rubble import half_width, inside_keel, keel_volume, porosity, release_blocks
+
+
+def _job(width=17.3, length=4.0, depth=5.0, **keel):
+    return parse_job({"run": {"duration": 1.0, "dt": 1e-3}, "water": {"density": 1010.0},
+                      "keel": {"width": width, "length": length, "depth": depth, "seed": 3, **keel}})
+
+
+def test_a_block_floats_at_its_archimedes_draft():
+    """One 1 m x 0.615 m x 0.3 m block released 5 cm too high in still water comes to rest at the draft
+    0.3 x 920 / 1010 = 0.2733 m (0.5 %, the issue's bound; the heave damping of the rigid pieces, 0.1
+    of critical, settles it within 20 s)."""
+    job = _job()
+    kl = job.keel
+    rect = np.array([[[-0.5, -0.3075], [0.5, -0.3075], [0.5, 0.3075], [-0.5, 0.3075]]])
+    draft = 0.3 * 920.0 / 1010.0
+    floes = blocks_as_floes(kl, rect, np.array([[0.0, 0.0, 0.15 - draft + 0.05]]), np.array([[1.0, 0, 0, 0]]),
+                            keel_law(kl), keel_water(job))
+    dt = 1e-3
+    floes.compute_forces(dt)
+    for _ in range(int(20.0 / dt)):
+        floes.step(dt)
+    bottom = floes.x[0, 2] - 0.15
+    assert -bottom == pytest.approx(draft, rel=5e-3)
+    assert abs(floes.v[0, 2]) < 1e-4
+
+
+def test_released_blocks_are_apart_under_the_cover_in_the_keels_box():
+    """The release (scenes/rubble.release_blocks): no two blocks overlap at t = 0 (the contact search
+    finds no pair), every block is wholly below the cover and inside the keel's box, and there is
+    enough ice to fill the keel at porosity 0.3."""
+    job = _job()
+    kl = job.keel
+    rect, x, q = release_blocks(kl)
+    floes = blocks_as_floes(kl, rect, x, q, keel_law(kl), keel_water(job))
+    pts, counts = floes.world()
+    _, npair, _, _ = floes.pair_records(0, len(x), pts, counts, floes.omega, 1e-3)
+    assert npair == 0
+    corners = pts[counts > 0]
+    assert corners[..., 2].max() < kl.cover
+    assert corners[..., 0].min() >= kl.x - 0.5 * kl.width - 1e-9 and corners[..., 0].max() <= kl.x + 0.5 * kl.width + 1e-9
+    assert corners[..., 1].min() >= kl.y0 - 1e-9 and corners[..., 1].max() <= kl.y0 + kl.length + 1e-9
+    assert floes.mass.sum() / 920.0 >= 0.7 * keel_volume(kl)
+    assert keel_step(kl, floes) < 0.5 * floes.mass.min() / kl.contact.damping  # a fraction of the contact time
+
+
+def test_the_keel_is_seed_002s_triangle_and_trapezoids():
+    """Fig. 2: at w = 17.3 m the 30 deg slopes meet 5 m down (a triangle, 43.3 m^2 a metre); at
+    w = 40 m the bottom is 22.68 m wide."""
+    tri = _job(17.32).keel
+    assert keel_volume(tri) == pytest.approx(0.5 * 17.32 * 5.0 * 4.0, rel=1e-3)
+    assert half_width(tri, -5.0) == pytest.approx(0.0, abs=0.01)
+    trap = _job(40.0).keel
+    assert 2 * half_width(trap, -5.0) == pytest.approx(40.0 - 10.0 / math.tan(math.radians(30.0)), rel=1e-12)
+    pts = np.array([[0.0, 1.0, -4.9], [11.3, 1.0, -4.9], [19.8, 1.0, -0.1], [0.0, 1.0, -5.1], [0.0, 4.1, -1.0]])
+    assert inside_keel(trap, pts).tolist() == [True, True, True, False, False]
+    assert keel_volume(_job(17.3).keel) == pytest.approx(0.5 * 17.3 * 5.0 * 4.0, rel=1e-3)  # the seed's rounding
+    with pytest.raises(Exception, match="meet above the keel's depth"):
+        _job(15.0)
+
+
+def test_porosity_of_one_block_in_a_small_keel():
+    """A keel 2 m wide, 1 m deep and 1 m long (pile angle 80 deg: 1.647 m^3) holding one 1 x 0.6 x 0.3
+    m block turned 30 deg about z: porosity 1 - 0.18 / 1.647, within 4 standard errors of the Monte
+    Carlo (200,000 points)."""
+    kl = _job(2.0, 1.0, 1.0, pile_angle=80.0).keel
+    rect = np.array([[[-0.5, -0.3], [0.5, -0.3], [0.5, 0.3], [-0.5, 0.3]]])
+    a = math.radians(15.0)
+    q = np.array([[math.cos(a), 0.0, 0.0, math.sin(a)]])
+    p = porosity(kl, np.array([[0.0, 0.5, -0.5]]), q, rect, 0.3)
+    exact = 1.0 - 0.18 / keel_volume(kl)
+    assert abs(p - exact) < 4.0 * math.sqrt(exact * (1 - exact) / 200_000)
