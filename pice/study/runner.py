@@ -16,6 +16,7 @@ import pathlib
 import sys
 
 from ..errors import JobError, PiceError
+from ..io.checkpoint import CheckpointError
 from ..io.errors import OutputError
 from ..parallel.comm import on_root, world
 from ..parallel.ensemble import WorkQueue, split
@@ -172,6 +173,14 @@ def _run_from_queue(order, refused, run_job, *, out_dir, comm, group, colour, pr
     return rows
 
 
+def _checkpoint_of(v: Variant) -> str | None:
+    """The checkpoint an unfinished run of the variant left (a killed study), to continue from."""
+    from ..io.checkpoint import default_path
+
+    ckpt = default_path(v.run)
+    return str(ckpt) if ckpt.exists() and v.run.exists() else None
+
+
 def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress, comm, count: int,
                  label: str = "") -> dict:
     """Run one variant (collective); its row, with ``error`` the reason when its set-up was refused or
@@ -184,8 +193,23 @@ def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress,
               + (f": refused at set-up: {refused}" if refused else ""), file=progress, flush=True)
     if refused:
         return row
+    resume = comm.bcast(_checkpoint_of(v) if comm.rank == 0 else None)
     try:
-        summary = run_job(v.job, output=str(v.run), overwrite=True, base_dir=out_dir, progress=progress, comm=comm)
+        if resume is not None:
+            if progress is not None:
+                print(f"pice study: {label}variant {v.index}: continued from its checkpoint {resume}",
+                      file=progress, flush=True)
+            try:
+                summary = run_job(v.job, output=str(v.run), base_dir=out_dir, progress=progress, comm=comm,
+                                  restart=resume)
+            except CheckpointError as exc:  # another job wrote it (the study changed): start afresh
+                if progress is not None:
+                    print(f"pice study: {label}variant {v.index}: its checkpoint does not fit ({exc}); run from "
+                          "the start", file=progress, flush=True)
+                resume = None
+        if resume is None:
+            summary = run_job(v.job, output=str(v.run), overwrite=True, base_dir=out_dir, progress=progress,
+                              comm=comm)
     except (PiceError, FloatingPointError) as exc:  # every rank raises it (the checks are collective)
         row["error"] = str(exc).splitlines()[0]
         if progress is not None:

@@ -1,0 +1,43 @@
+"""A killed study continues an unfinished variant from its checkpoint (issue 16: "a killed sweep
+restarts and runs only the variants not yet finished"; the standards: "a killed run restarts from
+its last checkpoint"), and the run it finishes is the one an unkilled study writes: its series rows
+agree bit for bit (the restart contract of tests/parallel/test_restart_after_kill.py)."""
+
+from __future__ import annotations
+
+import time
+
+import h5py
+import numpy as np
+from launch import BIN, kill9, run_cmd, start
+from scenes import slope_job
+
+
+def _series(path):
+    with h5py.File(path) as f:
+        assert f.attrs["status"] == "finished"
+        return f["series/step"][:], f["series/kinetic_energy"][:], f["series/wall_force"][:]
+
+
+def test_sigkill_mid_variant_then_the_study_continues_it_from_its_checkpoint(tmp_path):
+    text = slope_job(duration=0.8, snapshots=1).replace("[run]\n", "[run]\ncheckpoint_every = 0.1\n", 1)
+    job = tmp_path / "slope.toml"
+    job.write_text(text)
+    out = tmp_path / "study"
+    cmd = [str(BIN / "pice"), "study", str(job), "--vary", "run.dt=2e-4", "--out", str(out)]
+    ckpt = out / "slope_0.ckpt.h5"
+    proc = start(cmd)
+    end = time.monotonic() + 300
+    while not ckpt.exists() and proc.poll() is None and time.monotonic() < end:
+        time.sleep(0.05)
+    assert proc.poll() is None, "the study ended before it could be killed"
+    kill9(proc)
+    res = run_cmd(cmd)
+    assert f"variant 0: continued from its checkpoint {ckpt}" in res.stderr, res.stderr
+    steps, ke, wall = _series(out / "slope_0.h5")
+    whole = tmp_path / "whole"
+    run_cmd(cmd[:-1] + [str(whole)])
+    steps_w, ke_w, wall_w = _series(whole / "slope_0.h5")
+    common, ia, ib = np.intersect1d(steps, steps_w, return_indices=True)
+    assert common[-1] == steps_w[-1] and len(common) == len(steps_w)
+    assert np.array_equal(ke[ia], ke_w[ib]) and np.array_equal(wall[ia], wall_w[ib])
