@@ -34,10 +34,9 @@ EPS = 1e-12          # [m] a point within this of a plane lies on it
 
 
 @njit(**JIT)
-def _clip_face(src, n_src, normal, offset, out):
-    """Clip the convex polygon src[:n_src] to normal . x <= offset; write it to out; return its size."""
+def _clip_face(src, n_src, n0, n1, n2, offset, out):
+    """Clip the convex polygon src[:n_src] to n . x <= offset; write it to out; return its size."""
     m = 0
-    n0, n1, n2 = normal[0], normal[1], normal[2]
     for i in range(n_src):
         j = i + 1 if i + 1 < n_src else 0
         da = n0 * src[i, 0] + n1 * src[i, 1] + n2 * src[i, 2] - offset
@@ -54,10 +53,9 @@ def _clip_face(src, n_src, normal, offset, out):
 
 
 @njit(**JIT)
-def _cap(pts, count, normal, out):
-    """The points on a cutting plane as one convex polygon, counter-clockwise seen along +normal;
-    duplicates (within EPS) dropped. Returns its size."""
-    uniq = np.empty((count, 3))
+def _cap(pts, count, n0, n1, n2, out, uniq, ang, order):
+    """The points on a cutting plane (normal n) as one convex polygon, counter-clockwise seen along +n;
+    duplicates (within EPS) dropped. Returns its size. uniq, ang, order: work arrays of >= count rows."""
     k = 0
     for i in range(count):
         dup = False
@@ -78,18 +76,20 @@ def _cap(pts, count, normal, out):
         c2 += uniq[i, 2]
     c0, c1, c2 = c0 / k, c1 / k, c2 / k
     # a basis (u, v) of the plane with u x v = normal
-    n0, n1, n2 = normal[0], normal[1], normal[2]
     r0, r1, r2 = (1.0, 0.0, 0.0) if abs(n0) < 0.9 else (0.0, 1.0, 0.0)
     dot = r0 * n0 + r1 * n1 + r2 * n2
     u0, u1, u2 = r0 - dot * n0, r1 - dot * n1, r2 - dot * n2
     norm = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
     u0, u1, u2 = u0 / norm, u1 / norm, u2 / norm
     v0, v1, v2 = n1 * u2 - n2 * u1, n2 * u0 - n0 * u2, n0 * u1 - n1 * u0
-    ang = np.empty(k)
-    for i in range(k):
+    for i in range(k):  # the angles, insertion-sorted (a handful of points: no allocation)
         d0, d1, d2 = uniq[i, 0] - c0, uniq[i, 1] - c1, uniq[i, 2] - c2
-        ang[i] = math.atan2(d0 * v0 + d1 * v1 + d2 * v2, d0 * u0 + d1 * u1 + d2 * u2)
-    order = np.argsort(ang)
+        a = math.atan2(d0 * v0 + d1 * v1 + d2 * v2, d0 * u0 + d1 * u1 + d2 * u2)
+        j = i
+        while j > 0 and ang[j - 1] > a:
+            ang[j], order[j] = ang[j - 1], order[j - 1]
+            j -= 1
+        ang[j], order[j] = a, i
     for i in range(k):
         out[i, 0], out[i, 1], out[i, 2] = uniq[order[i], 0], uniq[order[i], 1], uniq[order[i], 2]
     return k
@@ -121,18 +121,57 @@ def face_plane(poly, count):
 
 
 @njit(**JIT)
+def _clip_into(pts, counts, side, n0, n1, n2, offset, tag, out, ocounts, oside, tmp, cut, uniq, ang, order):
+    """The convex polyhedron (pts, counts, side) cut to n . x <= offset, written to (out, ocounts,
+    oside) with the cap on the plane tagged ``tag``; returns its face count, 0 when nothing is kept,
+    or -1 when nothing lies beyond the plane (out untouched: the polyhedron is unchanged). out holds
+    one face more than pts and one point more per face (and as many as its faces); tmp, cut, uniq,
+    ang, order: work arrays (``clip`` sizes them)."""
+    n_faces = counts.shape[0]
+    outside = False
+    for f in range(n_faces):
+        for i in range(counts[f]):
+            if n0 * pts[f, i, 0] + n1 * pts[f, i, 1] + n2 * pts[f, i, 2] - offset > EPS:
+                outside = True
+                break
+        if outside:
+            break
+    if not outside:
+        return -1
+    ocounts[:] = 0
+    nfaces = 0
+    ncut = 0
+    for f in range(n_faces):
+        if counts[f] < 3:
+            continue
+        m = _clip_face(pts[f], counts[f], n0, n1, n2, offset, tmp)
+        for i in range(m):  # points on the cutting plane close the cap
+            d = n0 * tmp[i, 0] + n1 * tmp[i, 1] + n2 * tmp[i, 2] - offset
+            if abs(d) <= 1e-9 and ncut < cut.shape[0]:
+                cut[ncut] = tmp[i]
+                ncut += 1
+        if m >= 3:
+            out[nfaces, :m] = tmp[:m]
+            ocounts[nfaces] = m
+            oside[nfaces] = side[f]
+            nfaces += 1
+    if nfaces == 0:
+        return 0
+    k = _cap(cut, ncut, n0, n1, n2, tmp, uniq, ang, order)
+    if k >= 3:
+        out[nfaces, :k] = tmp[:k]
+        ocounts[nfaces] = k
+        oside[nfaces] = tag
+        nfaces += 1
+    return nfaces
+
+
+@njit(**JIT)
 def clip(pts, counts, side, normal, offset, tag):
     """The convex polyhedron (pts, counts, side) cut to normal . x <= offset: (pts, counts, side) of the
     part kept, the cap on the plane tagged ``tag`` (module docstring). Unchanged when nothing lies
     beyond the plane (a face may lie in it); every count 0 when nothing is kept."""
     n_faces = pts.shape[0]
-    outside = False
-    for f in range(n_faces):
-        for i in range(counts[f]):
-            if normal[0] * pts[f, i, 0] + normal[1] * pts[f, i, 1] + normal[2] * pts[f, i, 2] - offset > EPS:
-                outside = True
-    if not outside:
-        return pts, counts, side
     # room for one more face (the cap) and one more point per face (a cut adds at most one), and for a
     # cap through every face: the arrays grow with each cut, so tightly sized inputs are safe
     width = max(pts.shape[1] + 1, n_faces + 1)
@@ -141,47 +180,47 @@ def clip(pts, counts, side, normal, offset, tag):
     nside = np.zeros(n_faces + 1, np.int64)
     tmp = np.empty((width, 3))
     cut = np.empty((2 * n_faces, 3))
-    nfaces = 0
-    ncut = 0
-    for f in range(n_faces):
-        if counts[f] < 3:
-            continue
-        m = _clip_face(pts[f], counts[f], normal, offset, tmp)
-        for i in range(m):  # points on the cutting plane close the cap
-            d = normal[0] * tmp[i, 0] + normal[1] * tmp[i, 1] + normal[2] * tmp[i, 2] - offset
-            if abs(d) <= 1e-9 and ncut < cut.shape[0]:
-                cut[ncut] = tmp[i]
-                ncut += 1
-        if m >= 3:
-            nxt[nfaces, :m] = tmp[:m]
-            ncounts[nfaces] = m
-            nside[nfaces] = side[f]
-            nfaces += 1
-    if nfaces == 0:
-        return nxt, ncounts, nside
-    k = _cap(cut, ncut, normal, tmp)
-    if k >= 3:
-        nxt[nfaces, :k] = tmp[:k]
-        ncounts[nfaces] = k
-        nside[nfaces] = tag
+    uniq = np.empty((2 * n_faces, 3))
+    ang = np.empty(2 * n_faces)
+    order = np.empty(2 * n_faces, np.int64)
+    if _clip_into(pts, counts, side, normal[0], normal[1], normal[2], offset, tag, nxt, ncounts, nside, tmp, cut,
+                  uniq, ang, order) < 0:
+        return pts, counts, side
     return nxt, ncounts, nside
 
 
 @njit(**JIT)
 def overlap(a_pts, a_counts, b_pts, b_counts):
     """A n B of two convex polyhedra (module docstring): (pts, counts, side) of its faces, side 0 on A's
-    surface and 1 on B's. Empty (every count 0) when they do not overlap."""
-    pts = a_pts.copy()
-    counts = a_counts.copy()
-    side = np.zeros(a_counts.shape[0], np.int64)
-    for fb in range(b_counts.shape[0]):
+    surface and 1 on B's. Empty (every count 0) when they do not overlap. The clips by B's faces go
+    back and forth between two buffers sized once for the largest result (each adds at most one face,
+    and one point to a face)."""
+    nfa, nfb = a_counts.shape[0], b_counts.shape[0]
+    faces = nfa + nfb
+    width = max(a_pts.shape[1] + nfb, faces) + 1
+    buf = np.empty((2, faces, width, 3))
+    cnt = np.zeros((2, faces), np.int64)
+    sd = np.zeros((2, faces), np.int64)
+    buf[0, :nfa, :a_pts.shape[1]] = a_pts
+    cnt[0, :nfa] = a_counts
+    tmp = np.empty((width, 3))
+    cut = np.empty((2 * faces, 3))
+    uniq = np.empty((2 * faces, 3))
+    ang = np.empty(2 * faces)
+    order = np.empty(2 * faces, np.int64)
+    cur = 0
+    for fb in range(nfb):
         if b_counts[fb] < 3:
             continue
-        normal, offset = face_plane(b_pts[fb], b_counts[fb])
-        pts, counts, side = clip(pts, counts, side, normal, offset, 1)
-        if counts.sum() == 0:
+        n0, n1, n2, offset = _plane(b_pts[fb], b_counts[fb])
+        kept = _clip_into(buf[cur], cnt[cur], sd[cur], n0, n1, n2, offset, 1, buf[1 - cur], cnt[1 - cur],
+                          sd[1 - cur], tmp, cut, uniq, ang, order)
+        if kept < 0:
+            continue
+        cur = 1 - cur
+        if kept == 0:
             break
-    return pts, counts, side
+    return buf[cur], cnt[cur], sd[cur]
 
 
 @njit(**JIT)
