@@ -56,6 +56,17 @@ def _summary_lines(summary: dict, job) -> list[str]:
     return lines
 
 
+def _cmd_keel(args) -> int:
+    from .job import load_job
+    from .runner import make_keel
+
+    job = load_job(args.job)
+    s = make_keel(job, output=args.output, base_dir=pathlib.Path(args.job).parent)
+    if s["rank"] == 0:
+        print(s["line"])
+    return 0
+
+
 def _cmd_check(args) -> int:
     import time
 
@@ -88,8 +99,11 @@ def _cmd_check(args) -> int:
               f"friction {d['bond_friction']:.3g}")
     if "floes" in d:
         lo, hi = d["floe_mass_range"]
-        print(f"  floes             {d['floes']:,} of {lo / 1e3:,.0f}-{hi / 1e3:,.0f} t, concentration "
-              f"{d['floe_concentration']:.1%} of floes.area")
+        if "floe_concentration" in d:
+            print(f"  floes             {d['floes']:,} of {lo / 1e3:,.0f}-{hi / 1e3:,.0f} t, concentration "
+                  f"{d['floe_concentration']:.1%} of floes.area")
+        else:
+            print(f"  keel blocks       {d['floes']:,} of {lo:,.0f}-{hi:,.0f} kg")
     if "bodies" in d:
         masses = ", ".join(f"{m / 1e3:,.1f} t" for m in d["body_mass"])
         print(f"  bodies            {d['bodies']} ({masses})")
@@ -298,6 +312,10 @@ def build_parser() -> argparse.ArgumentParser:
     c = sub.add_parser("check", help="validate a job and print its size, time step and estimated cost")
     c.add_argument("job")
     c.set_defaults(func=_cmd_check)
+    k = sub.add_parser("keel", help="generate a job's [keel]: settle its blocks under the cover, trim, write the file")
+    k.add_argument("job")
+    k.add_argument("-o", "--output", help="keel file (default: keel.file, else <job>.keel.h5 beside the job)")
+    k.set_defaults(func=_cmd_keel)
     e = sub.add_parser("export", help="write VTK (.vtu per snapshot, walls, .pvd) or XDMF for a run file")
     e.add_argument("run", help="the .h5 run file")
     e.add_argument("--vtk", metavar="DIR", help="folder for the .vtu files and the .pvd collection")

@@ -88,7 +88,9 @@ def describe(sim) -> dict:
     if sim.floes is not None:
         f = sim.floes.f
         out.update(floes=sim.floes.n, floe_mass_range=[float(f.mass.min()), float(f.mass.max())] if sim.floes.n
-                   else [0.0, 0.0], floe_concentration=float(f.area.sum()) / _area(sim.job.floes.area))
+                   else [0.0, 0.0])
+        if sim.job.floes is not None:
+            out["floe_concentration"] = float(f.area.sum()) / _area(sim.job.floes.area)
     if sim.platform is not None:
         from .platform.output import describe as describe_platform
 

@@ -7,11 +7,12 @@ series rows, events, snapshots, the status at the end), in either of the two mod
 
 from __future__ import annotations
 
+import pathlib
 import signal
 import sys
 import time as wall
 
-from .errors import InstabilityError, RunInterrupted
+from .errors import InstabilityError, JobError, RunInterrupted
 from .io.output import RunOutput, snapshot_steps
 from .simulation import Simulation
 
@@ -168,3 +169,33 @@ def _restarted(job, path, *, base_dir=None, comm=None) -> Simulation:
     comm = comm if comm is not None else world()
     data = on_root(comm, lambda: read_checkpoint(path))
     return Simulation.from_checkpoint(job, data, base_dir=base_dir, comm=comm)
+
+
+def make_keel(job, *, output=None, base_dir=None, progress=sys.stderr, comm=None) -> dict:
+    """Generate the job's [keel] on the ranks of ``comm`` (physics/keel.py), write its keel file (rank
+    0; ``output``, default keel.file or <job>.keel.h5 beside the job) and return a summary."""
+    from .io.keel_file import keel_path, write_keel
+    from .parallel.comm import on_root, world
+    from .physics.keel import generate_keel
+
+    if job.keel is None:
+        raise JobError(f"{job.source}: keel = (absent): pice keel generates a [keel]; give one")
+    comm = comm if comm is not None else world()
+    path = pathlib.Path(output) if output else keel_path(job, base_dir)
+    loud = progress is not None and comm.rank == 0
+    t0 = wall.perf_counter()
+
+    def report(t, rms, contacts):
+        if loud:
+            print(f"pice keel: t = {t:.4g} s, RMS speed {rms:.3g} m/s, {contacts:,} block contacts", file=progress,
+                  flush=True)
+
+    keel = generate_keel(job, comm, progress=report)
+    on_root(comm, lambda: write_keel(path, job.keel, keel))
+    took = wall.perf_counter() - t0
+    line = (f"pice keel: {path}: {len(keel.x):,} of {keel.released:,} blocks in the keel, settled in "
+            f"{keel.settle_time:.4g} s (RMS {keel.rms_speed:.2g} m/s); porosity {keel.porosity:.3f} (core "
+            f"{keel.core_porosity:.3f}); {took:.1f} s of wall time")
+    return dict(file=str(path), blocks=len(keel.x), released=keel.released, settle_time=keel.settle_time,
+                rms_speed=keel.rms_speed, porosity=keel.porosity, core_porosity=keel.core_porosity,
+                wall_time=took, rank=comm.rank, line=line)

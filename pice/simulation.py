@@ -32,7 +32,7 @@ from .physics.bond_calibration import bond_params_from_job
 from .physics.boundary import SpringBoundaryTerm
 from .physics.contact import IceContactTerm, ice_contact_law
 from .physics.crushing import crushed_through, remove_elements
-from .physics.floe_system import floe_time_step, floes_from_job, refuse_keel_scene
+from .physics.floe_system import floe_time_step, rigid_pieces_from_job
 from .physics.hydro import GravityTerm, WaterTerm, heave_damping, water_from_job
 from .physics.timestep import choose_step, stable_step
 from .physics.walls import WallTerm
@@ -63,8 +63,8 @@ class Simulation:
     def __init__(self, job, *, base_dir=None, comm=None, restart=False, checkpoint=None):
         self.job = job
         self.comm = comm if comm is not None else world()
-        refuse_keel_scene(job)  # [keel]: generation only, so far (physics/keel.py)
-        refuse_oversized(job, self.comm, base_dir)  # every rank builds the whole sheet, then keeps its part
+        # every rank builds the same whole sheet (deterministic), then keeps its own part
+        refuse_oversized(job, self.comm, base_dir)  # before the sheet is allocated (pice/memory.py)
         self.p, self.sheet = build_level_ice(job)  # no elements without [ice]
         p = self.p
         self.n_initial = p.n  # elements of the whole sheet (crushed ones are removed)
@@ -76,8 +76,8 @@ class Simulation:
         self.gravity = job.gravity
         self.walls = WallTerm(job, default_kn=self.contact_law.kn, base_dir=base_dir) if job.walls else None
         self._set_up_bodies(base_dir)
-        rigid = job.floes is not None and not job.floes.breakable  # breakable floes are elements of the sheet
-        self.floes = floes_from_job(job, self.hulls, self.poses, comm=self.comm) if rigid else None
+        # rigid floes or a keel's blocks (breakable floes are elements of the sheet)
+        self.floes = rigid_pieces_from_job(job, self.hulls, self.poses, comm=self.comm, base_dir=base_dir)
         p.allocate_dynamic(len(self.walls.kinds) if self.walls else 0, len(self.hulls))
         p.heave_damping = heave_damping(job, p)
         apply_loads_and_fixes(job, p, spacing=self.sheet.spacing)

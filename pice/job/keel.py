@@ -5,7 +5,7 @@ released under water beneath a rigid cover, packed by their buoyancy and trimmed
 
 from __future__ import annotations
 
-from pydantic import StrictBool, model_validator
+from pydantic import model_validator
 
 from .floes import FloeContactSpec
 from .types import Real, Section, Vec2, count, quantity, vector
@@ -31,10 +31,13 @@ class BlocksSpec(Section):
 
 # block-block and block-cover contact: seed 003's law (kernels/contact_law.py) with seed 002's penalty term
 # read as a stiffness in N/m, k_t at 0.6 k_n as seed 003's ratio, and a dashpot of 0.3 of critical for
-# two blocks of 1 m x 0.615 m x 0.3 m (m_eff 84.9 kg: 2 x 0.3 sqrt(84.9 x 1e7) = 1.75e4 N s/m);
-# assumptions, docs/ridge_keel.md ("Contact")
+# two blocks of 1 m x 0.615 m x 0.3 m (m_eff 84.9 kg: 2 x 0.3 sqrt(84.9 x 1e7) = 1.75e4 N s/m); no
+# crushing, as seed 002's elastic-viscous contact: a plastic limit that never binds (a corner's tiny
+# contact area would otherwise cap its force and let it crush centimetres into a wall); assumptions,
+# docs/ridge_keel.md ("Contact")
+NO_CRUSHING = 1.0e15  # [Pa]
 KEEL_CONTACT = FloeContactSpec(normal_stiffness=1.0e7, damping=1.75e4, tangential_stiffness=0.6e7, friction=0.3,
-                               compressive_strength=2.5e6)
+                               compressive_strength=NO_CRUSHING)
 
 
 TRIANGLE_SLACK = 0.005  # a width this fraction short of the triangle's is the triangle (its tip cut)
@@ -45,10 +48,12 @@ class KeelSpec(Section):
     Figs. 1-2). Its cross-section in x-z is a trapezoid, ``width`` w at the cover's underside (z =
     ``cover``), sides at ``pile_angle`` from the horizontal down to ``depth`` (a triangle when w = 2
     depth / tan(pile_angle)); it runs ``length`` along y from y = ``y0``, centred on x = ``x``.
-    ``symmetry = true``: a half model, a rigid wall at y = y0 (the ship's centreline). Generation
+    Walls close the length at both ends (seed 002's basin walls; in a half model the one at y0 is the
+    symmetry plane, the ship's centreline, and the ship's hull is its half). Generation
     (``pice keel``): blocks drawn from ``seed`` fill the keel's box, are released under water, rise
     against the cover until their RMS speed is below ``settle_speed`` (at most ``settle_time`` of
-    simulated time), and are trimmed to the shape; the settled keel is ``file``."""
+    simulated time), and are trimmed to the shape; the settled keel is ``file`` (relative to the job's
+    folder; default <job>.keel.h5 beside it), which ship runs start from (io/keel_file.py)."""
 
     width: quantity("m")
     length: quantity("m")
@@ -57,7 +62,6 @@ class KeelSpec(Section):
     x: Real = 0.0
     y0: Real = 0.0
     cover: Real = 0.0
-    symmetry: StrictBool = False
     seed: count(0) = 0
     blocks: BlocksSpec = BlocksSpec()
     contact: FloeContactSpec = KEEL_CONTACT

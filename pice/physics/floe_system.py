@@ -215,7 +215,6 @@ def floes_from_job(job, hulls, poses, *, comm) -> FloeSystem:
     """The job's [floes]: the field drawn from its seed, afloat at the Archimedes draft, moving at
     floes.velocity, with every body's hull as a moving structure and the confining walls; floes that
     overlap a hull at t = 0 are left out (logged)."""
-    from ..platform.hulls import revolved
     from ..scenes.floe_field import floe_field
     from .waves import sea_from_job
 
@@ -236,6 +235,20 @@ def floes_from_job(job, hulls, poses, *, comm) -> FloeSystem:
     floes = Floes(field.polygons, thickness, density=spec.density, base=base,
                   velocity=(spec.velocity[0], spec.velocity[1], 0.0), law=law, water=fw,
                   added_mass=spec.added_mass == "plate")
+    body_pieces = add_body_structures(floes, job, hulls, poses)
+    floes = _without_overlaps(floes, field, thickness, base, spec, law, fw, body_pieces, job)
+    if spec.sides == "confined":
+        x0, y0, x1, y1 = spec.area
+        floes.add_wall((0.0, -1.0, 0.0), -y0)   # y <= y0 is wall
+        floes.add_wall((0.0, 1.0, 0.0), y1)     # y >= y1 is wall
+    return FloeSystem(floes, comm, body_pieces)
+
+
+def add_body_structures(floes: Floes, job, hulls, poses) -> list[list[int]]:
+    """Every body's hull as moving convex structures of ``floes`` (revolved hulls their frusta, a box
+    itself, a ship its three pieces) at its pose; returns each body's structure indices."""
+    from ..platform.hulls import revolved
+
     body_pieces = []
     for k, body in enumerate(job.bodies):
         hull = body.hull
@@ -248,21 +261,16 @@ def floes_from_job(job, hulls, poses, *, comm) -> FloeSystem:
             from ..platform.ship import ship_hull
             pieces = ship_hull(hull)[0]
         else:
-            raise JobError(f"{job.source}: bodies[{k}].hull.type = {hull.type!r}: floes meet convex hulls only: a "
-                           "\"revolved\" hull (each ring to the next is a convex frustum), a \"box\" or a "
-                           "\"ship\"; give the body such a hull, or drop [floes]")
+            raise JobError(f"{job.source}: bodies[{k}].hull.type = {hull.type!r}: rigid ice (floes, keel blocks) "
+                           "meets convex hulls only: a \"revolved\" hull (each ring to the next is a convex "
+                           "frustum), a \"box\" or a \"ship\"; give the body such a hull")
         first = len(floes.structures)
         for v, t in pieces:
             floes.add_structure(v, t, centre=np.zeros(3), friction=body.friction)  # ice-hull friction
         body_pieces.append(list(range(first, first + len(pieces))))
         for s in body_pieces[-1]:
             floes.move_structure(s, x=poses[k, :3], q=poses[k, 3:7], v=poses[k, 7:10], w=poses[k, 10:13])
-    floes = _without_overlaps(floes, field, thickness, base, spec, law, fw, body_pieces, job)
-    if spec.sides == "confined":
-        x0, y0, x1, y1 = spec.area
-        floes.add_wall((0.0, -1.0, 0.0), -y0)   # y <= y0 is wall
-        floes.add_wall((0.0, 1.0, 0.0), y1)     # y >= y1 is wall
-    return FloeSystem(floes, comm, body_pieces)
+    return body_pieces
 
 
 def _without_overlaps(floes, field, thickness, base, spec, law, fw, body_pieces, job) -> Floes:
@@ -317,17 +325,23 @@ def floe_time_step(job, system: FloeSystem | None) -> StepLimit:
                         governed_by=f"floe contact, k_n {law.kn:.3g} N/m, c_n {law.cn:.3g} N s/m, m_eff {0.5 * m:.4g} kg",
                         allow_unstable=run.allow_unstable_dt, source=job.source)
     if run.dt == "auto":
-        accurate = job.floes.step_fraction * 0.5 * m / law.cn if law.cn > 0 else math.inf
+        key, fraction = ("floes", job.floes.step_fraction) if job.floes is not None else ("keel", job.keel.step_fraction)
+        accurate = fraction * 0.5 * m / law.cn if law.cn > 0 else math.inf
         if accurate < limit.chosen:
             return StepLimit(stable=stable, chosen=accurate, safety=accurate / stable,
-                             governed_by=f"floes.step_fraction {job.floes.step_fraction:g} of the contact time "
+                             governed_by=f"{key}.step_fraction {fraction:g} of the contact time "
                                          f"m_eff / c_n = {0.5 * m / law.cn:.4g} s")
     return limit
 
 
-def refuse_keel_scene(job) -> None:
-    """JobError for a job with [keel] given to a run: the ship runs through a keel are not built yet
-    (issue 15); generation is (physics/keel.generate_keel)."""
+
+def rigid_pieces_from_job(job, hulls, poses, *, comm, base_dir=None) -> FloeSystem | None:
+    """The job's rigid pieces: its [floes] (unless breakable: those are elements of the sheet), or its
+    [keel]'s settled blocks (physics/keel.py), or None."""
+    if job.floes is not None and not job.floes.breakable:
+        return floes_from_job(job, hulls, poses, comm=comm)
     if job.keel is not None:
-        raise JobError(f"{job.source}: keel: runs with a ridge keel are not built yet (issue 15: the rubble's "
-                       "generation is, pice.physics.keel.generate_keel, not the ship's run through it); drop [keel]")
+        from .keel import keel_from_job
+
+        return keel_from_job(job, hulls, poses, comm=comm, base_dir=base_dir)
+    return None

@@ -7,7 +7,7 @@ one code path, one contact law (seed 003's, [keel.contact]), the same MPI contra
 every block, each computes its block of them; the same bits on any rank count). The basin is walls:
 the cover (z >= keel.cover is solid, with the ice-ice friction: it holds the pile, seed 002), and the
 ends of the keel's length (y = y0 and y0 + length), where seed 002's basin walls touch the pile; along
-x the pile is free, and the trim removes what spreads past the keel's slopes.
+x, walls at the keel's top corners while it settles (``keel_walls``), and the trim cuts the slopes.
 
 Settled: the RMS speed of the blocks below keel.settle_speed, checked every SETTLE_CHECK s of
 simulated time; a generation that has not settled after keel.settle_time is refused with the speed it
@@ -74,11 +74,16 @@ def blocks_as_floes(keel, rects, x, q, law, water) -> Floes:
     return floes
 
 
-def keel_walls(floes: Floes, keel) -> None:
-    """The cover and the basin's end walls as half-spaces (module docstring)."""
+def keel_walls(floes: Floes, keel, *, generation: bool = False) -> None:
+    """The cover and the basin's end walls as half-spaces (module docstring); for the generation also
+    walls at the keel's top corners, x = x -+ w / 2, which hold the pile while it settles (without
+    them it creeps outwards under the cover for minutes; the trim then cuts the slopes)."""
     floes.add_wall((0.0, 0.0, 1.0), keel.cover)                      # z >= cover: the cover
     floes.add_wall((0.0, -1.0, 0.0), -keel.y0)                       # y <= y0
     floes.add_wall((0.0, 1.0, 0.0), keel.y0 + keel.length)           # y >= y0 + length
+    if generation:
+        floes.add_wall((-1.0, 0.0, 0.0), -(keel.x - 0.5 * keel.width))  # x <= x - w / 2
+        floes.add_wall((1.0, 0.0, 0.0), keel.x + 0.5 * keel.width)      # x >= x + w / 2
 
 
 def keel_step(keel, floes: Floes) -> float:
@@ -96,7 +101,7 @@ def generate_keel(job, comm, *, progress=None) -> Keel:
     keel = job.keel
     rects, x, q = release_blocks(keel)
     floes = blocks_as_floes(keel, rects, x, q, keel_law(keel), keel_water(job))
-    keel_walls(floes, keel)
+    keel_walls(floes, keel, generation=True)
     system = FloeSystem(floes, comm, [])
     dt = keel_step(keel, floes)
     every = max(1, int(round(SETTLE_CHECK / dt)))
@@ -129,3 +134,24 @@ def generate_keel(job, comm, *, progress=None) -> Keel:
              "(core %.3f)", int(keep.sum()), len(rects), t, rms, p_all, p_core)
     return Keel(body, centres, turned, t, rms, len(rects), p_all, p_core)
 
+
+
+def keel_from_job(job, hulls, poses, *, comm, base_dir=None) -> FloeSystem:
+    """The job's settled keel (its file, io/keel_file.py) as rigid pieces with the cover, the end walls
+    and every body's hull (floe_system.add_body_structures), for a ship run; [keel.contact] may differ
+    from the generation's (logged)."""
+    from ..io.keel_file import keel_path, read_keel
+    from .floe_system import add_body_structures
+
+    keel = job.keel
+    path = keel_path(job, base_dir)
+    data = read_keel(path, keel, job.source)
+    if data["contact"] != keel.contact.model_dump(mode="json"):
+        log.info("keel: %s was settled with another contact (%s); this run's is %s", path, data["contact"],
+                 keel.contact.model_dump(mode="json"))
+    floes = blocks_as_floes(keel, data["rects"], data["x"], data["q"], keel_law(keel), keel_water(job))
+    pieces = add_body_structures(floes, job, hulls, poses)
+    keel_walls(floes, keel)
+    log.info("keel: %d blocks from %s (porosity %.3f, its core %.3f)", len(data["x"]), path, data["porosity"],
+             data["core_porosity"])
+    return FloeSystem(floes, comm, pieces)

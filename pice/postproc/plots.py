@@ -9,6 +9,8 @@
 * ``mooring_load.png`` (with ``events.csv``): the lines' total horizontal pull against time, its power
   spectrum and the peak load of each ice interaction event, as seed 003's Figs. 10-12
   (postproc/mooring.py);
+* ``keel_resistance.png``: a ship run through a [keel]: R = -f_x against the penetration, its 6 m
+  running average and peak R^p, as seed 002's Fig. 5 (postproc/resistance.py);
 * ``energies.png``: the change of each energy since t = 0 (kJ);
 * ``broken_bonds.png``: cumulative broken bonds against time, by failure mode (from the event log).
 
@@ -215,8 +217,33 @@ def mooring_load(run, out: pathlib.Path, skip: float = 0.0, **_):
     return _save(fig, out / "mooring_load.png")
 
 
+def keel_resistance(run, out: pathlib.Path, **_):
+    """keel_resistance.png: a ship run through a [keel]: R = -f_x against the penetration, its running
+    average over 6 m and the peak R^p (seed 002, Fig. 5; postproc/resistance.py). None otherwise."""
+    from .resistance import WINDOW, peak_resistance, resistance_record, running_average
+
+    record = resistance_record(run)
+    if record is None or "[keel]" not in str(run.attrs.get("job_text", "")):
+        return None
+    delta, r = record
+    fig, axes = _figure(1)
+    ax = axes[0]
+    ax.plot(delta, r / 1e3, lw=0.6, alpha=0.6, label="R = -f_x")
+    ax.plot(delta, running_average(delta, r) / 1e3, lw=1.6, label=f"running average over {WINDOW:g} m")
+    peak, where = peak_resistance(delta, r)
+    if np.isfinite(peak):
+        ax.plot([where], [peak / 1e3], "o", label=f"R^p = {peak / 1e3:,.0f} kN at {where:.1f} m")
+    ax.set_xlabel("penetration delta [m]")
+    ax.set_ylabel("keel resistance [kN]")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left", fontsize=8)
+    fig.suptitle(f"Keel resistance: {_title(run)}", fontsize=11)
+    fig.tight_layout()
+    return _save(fig, out / "keel_resistance.png")
+
+
 # each figure: builder(run, out_dir, skip=...) -> path or None when the run lacks its series
-FIGURES = (ice_loads, platform, mooring_load, energies, broken_bonds)
+FIGURES = (ice_loads, platform, mooring_load, keel_resistance, energies, broken_bonds)
 
 
 def default_out_dir(run_path) -> pathlib.Path:

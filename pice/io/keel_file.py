@@ -1,0 +1,81 @@
+"""The settled keel file (issue 15: "save the settled keel, so that many ship runs start from one
+generation"): the blocks that ``pice keel`` settled and trimmed, with what generation measured.
+
+HDF5: ``rects`` (n, 4, 2) [m] each block's rectangle in its principal frame, ``x`` (n, 3) [m] its
+centre, ``q`` (n, 4) its attitude; attributes: the [keel] it was generated from (JSON, the key
+``keel``), the porosity of the keel and of its core, the time it took to settle [s], the RMS speed
+then [m/s], the number released, and ``format``. Written to a temporary name and renamed, so a
+killed generation leaves no half file.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pathlib
+
+import numpy as np
+
+from ..errors import JobError
+
+KEEL_FORMAT = 1
+# keys of [keel] a ship run may change against its keel's generation (the contact: seed 002 runs each
+# pile with mu_i 0.3 and 0.6; the file and the run's own step)
+RUN_KEYS = ("contact", "file", "step_fraction")
+
+
+def keel_path(job, base_dir=None) -> pathlib.Path:
+    """The job's keel file: keel.file, relative to the job's folder, else <job>.keel.h5 beside the job."""
+    base = pathlib.Path(base_dir or ".")
+    name = job.keel.file or f"{pathlib.Path(job.source).stem or job.run.name}.keel.h5"
+    return base / name
+
+
+def _generation_keys(keel) -> dict:
+    return {k: v for k, v in keel.model_dump(mode="json").items() if k not in RUN_KEYS}
+
+
+def write_keel(path, keel, result) -> pathlib.Path:
+    """Write ``result`` (physics.keel.Keel) generated from ``keel`` (KeelSpec) to ``path``."""
+    import h5py
+
+    path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    with h5py.File(tmp, "w") as f:
+        f["rects"], f["x"], f["q"] = result.rects, result.x, result.q
+        f.attrs.update(format=KEEL_FORMAT, keel=json.dumps(_generation_keys(keel)),
+                       contact=json.dumps(keel.contact.model_dump(mode="json")), porosity=result.porosity,
+                       core_porosity=result.core_porosity, settle_time=result.settle_time,
+                       rms_speed=result.rms_speed, released=result.released)
+    os.replace(tmp, path)
+    return path
+
+
+def read_keel(path, keel, source: str) -> dict:
+    """The blocks and records of the keel file at ``path`` for the job's ``keel``; JobError when it is
+    missing, unreadable, or generated from another keel (the keys that differ are named)."""
+    import h5py
+
+    path = pathlib.Path(path)
+    fix = f"generate it: pice keel {source}"
+    if not path.exists():
+        raise JobError(f"{source}: keel.file = {str(path)!r}: not found; {fix}")
+    try:
+        with h5py.File(path, "r") as f:
+            out = {k: f[k][()] for k in ("rects", "x", "q")}
+            attrs = dict(f.attrs)
+    except (OSError, KeyError) as exc:
+        raise JobError(f"{source}: keel.file = {str(path)!r}: not a keel file ({exc}); {fix}") from None
+    if int(attrs.get("format", 0)) != KEEL_FORMAT:
+        raise JobError(f"{source}: keel.file = {str(path)!r}: format {attrs.get('format')}, not {KEEL_FORMAT}; {fix}")
+    made, want = json.loads(attrs["keel"]), _generation_keys(keel)
+    differ = sorted(k for k in set(made) | set(want) if made.get(k) != want.get(k))
+    if differ:
+        raise JobError(f"{source}: keel.file = {str(path)!r}: generated from another keel (keel.{', keel.'.join(differ)} "
+                       f"differ); give its own file (keel.file) or {fix}")
+    out.update(porosity=float(attrs["porosity"]), core_porosity=float(attrs["core_porosity"]),
+               settle_time=float(attrs["settle_time"]), released=int(attrs["released"]),
+               contact=json.loads(attrs["contact"]))
+    out["rects"], out["x"], out["q"] = (np.asarray(out[k], float) for k in ("rects", "x", "q"))
+    return out

@@ -1,0 +1,45 @@
+"""The keel resistance of a ship run as seed 002 reports it (Gong, Polojärvi & Tuhkuri 2017, Figs. 4-8;
+issue 15): R = -f_x, the rubble's force on the ship against its penetration delta, the running
+average of R over ``WINDOW`` m of penetration, and its peak R^p. Numbers only; postproc/plots.py
+draws them (``keel_resistance.png``).
+
+R at a series row is the mean of the ice's force over the steps since the row before
+(``ice_force_mean``; the instantaneous ``ice_force`` in runs without it), so the record misses no
+block's impact between rows. delta is the body's x displacement since t = 0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+WINDOW = 6.0  # [m] of penetration (seed 002, Fig. 5)
+
+
+def resistance_record(run, body: int = 0):
+    """(delta [m], R [N]) of bodies[body] of a run; None when it has no body or no ice load."""
+    x, f = run.series("body_position"), run.series("ice_force_mean")
+    if f is None:
+        f = run.series("ice_force")
+    if x is None or f is None or x.ndim != 3 or x.shape[1] <= body:
+        return None
+    return x[:, body, 0] - x[0, body, 0], -f[:, body, 0]
+
+
+def running_average(delta: np.ndarray, r: np.ndarray, window: float = WINDOW) -> np.ndarray:
+    """The mean of R over the penetration (delta - window, delta] at each row (delta increasing);
+    NaN until a whole window has been penetrated."""
+    csum = np.concatenate([[0.0], np.cumsum(r)])
+    start = np.searchsorted(delta, delta - window * (1.0 - 1e-9), side="right")  # the row at delta - window: out
+    count = np.arange(1, len(r) + 1) - start
+    out = (csum[1:] - csum[start]) / np.maximum(count, 1)
+    out[delta - delta[0] < window] = np.nan
+    return out
+
+
+def peak_resistance(delta: np.ndarray, r: np.ndarray, window: float = WINDOW):
+    """(R^p [N], the penetration at which the running average peaks [m]); (nan, nan) before a window."""
+    avg = running_average(delta, r, window)
+    if not np.isfinite(avg).any():
+        return float("nan"), float("nan")
+    k = int(np.nanargmax(avg))
+    return float(avg[k]), float(delta[k])

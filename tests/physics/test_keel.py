@@ -1,0 +1,116 @@
+"""A ridge keel generated, saved and met by a ship (issue 15; seed 002, Gong, Polojärvi & Tuhkuri
+2017): ``pice keel`` settles a small keel's blocks under the cover and writes its file; a ship run
+starts from that file; the resistance record's running average (postproc/resistance.py).
+
+The keel here is small (a 3.5 m triangle, 1 m deep, 1.5 m long: 22 blocks released) so that it
+settles in seconds; it checks the procedure, not seed 002's porosity, which needs a keel many blocks
+across (docs/ridge_keel.md).
+"""
+
+from __future__ import annotations
+
+import h5py
+import numpy as np
+import pytest
+
+from pice.cli import main
+from pice.errors import JobError
+from pice.io.keel_file import read_keel
+from pice.job import load_job
+from pice.kernels.floe_motion import world_polyhedra
+from pice.kernels.polyhedra import prism
+from pice.postproc.resistance import peak_resistance, running_average
+
+KEEL = """
+[run]
+name = "micro"
+duration = {duration}
+series_every = 100
+
+[water]
+density = 1010.0
+
+[keel]
+width = 3.5
+length = 1.5
+depth = 1.0
+seed = {seed}
+file = "micro.keel.h5"
+"""
+SHIP = """
+[[bodies]]
+name = "bow"
+hull = {type = "box", size = [2.0, 3.0, 2.0]}
+mass = 1.0e5
+inertia = [1e5, 1e5, 1e5]
+position = [-3.5, 1.5, -0.5]
+motion = "prescribed"
+velocity = [[0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]]
+friction = 0.1
+"""
+
+
+@pytest.fixture(scope="module")
+def micro(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("keel")
+    job = folder / "micro.toml"
+    job.write_text(KEEL.format(duration=2.0, seed=1))
+    assert main(["keel", str(job)]) == 0
+    return folder, job
+
+
+def test_the_settled_keel_is_at_rest_under_the_cover_inside_the_basin(micro):
+    """The generation stops when the blocks' RMS speed is below keel.settle_speed (2 mm/s); every
+    block of the file lies below the cover and between the end walls, up to the contact's overlap
+    (1 mm: the buoyant weight of a column of blocks over k_n = 1e7 N/m is ~0.02 mm), and inside the
+    keel's width at the cover (the trim)."""
+    folder, job_path = micro
+    job = load_job(job_path)
+    kl = job.keel
+    with h5py.File(folder / "micro.keel.h5") as f:
+        assert f.attrs["rms_speed"] < kl.settle_speed
+        assert 0 < len(f["x"]) < f.attrs["released"]
+    data = read_keel(folder / "micro.keel.h5", kl, job.source)
+    for rect, x, q in zip(data["rects"], data["x"], data["q"]):
+        pts, counts = prism(rect, -0.15, 0.15)
+        world = world_polyhedra(pts[None, :6, :4].copy(), counts[None, :6].copy(), x[None], q[None])[0]
+        assert world[..., 2].max() <= kl.cover + 1e-3
+        assert world[..., 1].min() >= kl.y0 - 1e-3 and world[..., 1].max() <= kl.y0 + kl.length + 1e-3
+        assert abs(x[0] - kl.x) <= 0.5 * kl.width
+
+
+def test_a_keel_file_from_another_keel_is_refused(micro):
+    folder, _ = micro
+    other = folder / "other.toml"
+    other.write_text(KEEL.format(duration=2.0, seed=2))
+    job = load_job(other)
+    with pytest.raises(JobError, match=r"generated from another keel \(keel.seed differ\)"):
+        read_keel(folder / "micro.keel.h5", job.keel, job.source)
+    with pytest.raises(JobError, match="not found; generate it: pice keel"):
+        read_keel(folder / "none.keel.h5", job.keel, job.source)
+
+
+def test_a_ship_run_starts_from_the_keel_file_and_meets_its_blocks(micro):
+    """A box bow driven at 1 m/s into the micro keel: the run reads the keel file (the same blocks),
+    the blocks push back (R = -f_x > 0 while they touch) and the cover holds them above."""
+    folder, _ = micro
+    job = folder / "ship.toml"
+    job.write_text(KEEL.format(duration=3.0, seed=1) + SHIP)
+    assert main(["run", str(job), "-o", str(folder / "ship.h5")]) == 0
+    with h5py.File(folder / "ship.h5") as f:
+        s = f["series"]
+        assert s["floe_structure_contacts"][:].max() > 0
+        assert (-s["ice_force_mean"][:, 0, 0]).max() > 1e3  # [N]
+
+
+def test_the_running_average_of_a_linear_record():
+    """R = delta sampled every h: its mean over (delta - 6, delta] is delta - 3 + h / 2 once 6 m are
+    penetrated (the 6/h samples of the window), NaN before; the peak is at the end of the record."""
+    h = 0.05
+    delta = np.arange(0.0, 20.0 + h / 2, h)
+    avg = running_average(delta, delta)
+    full = delta >= 6.0
+    assert np.isnan(avg[~full]).all()
+    np.testing.assert_allclose(avg[full], delta[full] - 3.0 + h / 2, atol=1e-9)
+    peak, where = peak_resistance(delta, delta)
+    assert where == pytest.approx(20.0) and peak == pytest.approx(17.0 + h / 2)
