@@ -60,6 +60,11 @@ def study_table(study: dict) -> list[str]:
     if study["reference_rule"] != "--reference" and len(tied) > 1:
         note = [f"note: variants {', '.join(map(str, tied))} cost the same particle-steps: the first is the "
                 "reference; --reference K picks another"]
+    busy = study.get("busy")
+    if busy and busy["elapsed"] > 0 and any(r.get("busy_time") for r in rows):
+        groups = busy["groups"]
+        each = f" (group {', group '.join(f'{g}: {b:.0%}' for g, b in enumerate(groups))})" if len(groups) > 1 else ""
+        note.append(f"ranks busy {busy['overall']:.0%} of the {busy['elapsed']:,.0f} s this call ran variants{each}")
     return [title + settle, *lines, *note]
 
 

@@ -14,6 +14,7 @@ import json
 import math
 import pathlib
 import sys
+import time
 
 from ..errors import JobError, PiceError
 from ..io.checkpoint import CheckpointError
@@ -105,6 +106,7 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
             if done[v.index] is not None:
                 print(f"pice study: variant {v.index}: done before ({_record(v).name}), not run again",
                       file=progress, flush=True)
+    start = time.perf_counter()
     if ngroups == 1:
         mine = _run_in_turn(todo, refused, run_job, out_dir=out_dir, comm=comm,
                             progress=progress if comm.rank == 0 else None, count=len(variants))
@@ -113,10 +115,12 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
         mine = _run_from_queue(order, refused, run_job, out_dir=out_dir, comm=comm, group=group, colour=colour,
                                progress=progress if group.rank == 0 else None, count=len(variants))
     gathered = comm.gather(mine)
+    elapsed = time.perf_counter() - start
     rows = []
     if comm.rank == 0:
         ran = {row["variant"]: row for part in gathered for row in part}
         rows = [{k: x for k, x in (done[v.index] or ran[v.index]).items() if k != "job_text"} for v in variants]
+        busy = busy_fractions(list(ran.values()), ngroups, elapsed)
 
     def report():
         for row in rows:
@@ -131,11 +135,21 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
                      reference=ref, reference_rule="--reference" if reference is not None else "most particle-steps",
                      loads_on="body 0" if variants[0].job.bodies else "the walls (sum)",
                      settle=settle, units={name: unit for name, unit, _ in METRICS}, variants=rows,
-                     criteria=[str(c) for c in judged])
+                     criteria=[str(c) for c in judged], busy=busy)
         study["files"] = [str(p) for p in write_report(study, out_dir)]
         return study
 
     return _on_rank0(comm, report, f"{out_dir}: cannot write the study report")
+
+
+def busy_fractions(rows: list[dict], ngroups: int, elapsed: float) -> dict:
+    """How busy the ranks were while this call ran its variants: each group's time in its variants
+    (set-up included, ``busy_time``) over the study's elapsed wall time [s], and their mean."""
+    per = [0.0] * ngroups
+    for row in rows:
+        per[row.get("group", 0)] += row.get("busy_time", 0.0)
+    frac = [b / elapsed if elapsed > 0 else 0.0 for b in per]
+    return dict(elapsed=elapsed, groups=frac, overall=sum(frac) / ngroups)
 
 
 def _run_in_turn(todo, refused, run_job, *, out_dir, comm, progress, count) -> list[dict]:
@@ -194,6 +208,7 @@ def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress,
     if refused:
         return row
     resume = comm.bcast(_checkpoint_of(v) if comm.rank == 0 else None)
+    began = time.perf_counter()
     try:
         if resume is not None:
             if progress is not None:
@@ -212,10 +227,12 @@ def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress,
                               comm=comm)
     except (PiceError, FloatingPointError) as exc:  # every rank raises it (the checks are collective)
         row["error"] = str(exc).splitlines()[0]
+        row["busy_time"] = time.perf_counter() - began
         if progress is not None:
             print(f"pice study: variant {v.index} failed: {row['error']}", file=progress, flush=True)
         return row
-    row.update(wall_time=summary["wall_time"], steps=summary["steps"], elements=summary["elements"],
+    row.update(busy_time=time.perf_counter() - began, wall_time=summary["wall_time"], steps=summary["steps"],
+               elements=summary["elements"],
                particle_steps=(summary["elements"] + summary.get("floes", 0) + summary.get("mooring_node_updates", 0))
                * summary["steps"],
                particle_steps_per_second=summary["particle_steps_per_second"], ranks=summary["ranks"])

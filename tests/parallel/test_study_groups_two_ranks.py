@@ -3,7 +3,8 @@ split into two groups of one, which take the variants from rank 0's queue (paral
 
 Reference (issue 16): a variant run in a group gives, bit for bit, the metrics of that variant run
 alone on one rank; every variant runs once; both groups work; the report lists the variants in
-their order. A --group-size that does not divide the ranks is refused (exit status 2, nothing run).
+their order; the report gives how busy each group was. A --group-size that does not divide the ranks
+is refused (exit status 2, nothing run).
 """
 
 from __future__ import annotations
@@ -44,6 +45,12 @@ def test_groups_of_one_give_each_variant_as_run_alone(tmp_path):
     rows = study["variants"]
     assert [r["variant"] for r in rows] == [0, 1, 2, 3] and all(r["error"] is None for r in rows)
     assert {r["group"] for r in rows} == {0, 1} and all(r["ranks"] == 1 for r in rows)
+    # the busy fraction (issue 16): each group's time in its variants over the study's wall time; the
+    # sum of the groups' variant times bounds it, and the two groups overlap in time
+    busy = study["busy"]
+    assert len(busy["groups"]) == 2 and all(0.0 < b <= 1.0 for b in busy["groups"])
+    assert busy["overall"] == pytest.approx(sum(r["busy_time"] for r in rows) / (2 * busy["elapsed"]), rel=1e-12)
+    assert sum(r["busy_time"] for r in rows) > busy["elapsed"]
     for r in rows:
         alone = base / f"alone_{r['variant']}.h5"
         run_job(load_job(r["toml"]), output=str(alone), progress=None, comm=SerialComm(), base_dir=out)
