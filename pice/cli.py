@@ -1,5 +1,4 @@
-"""Command line: ``pice run | check | export | plot | study | lab | bench``. Heavy modules are imported inside each
-subcommand."""
+"""Command line: ``pice run | keel | check | export | plot | study | lab | bench``; each imports its heavy modules."""
 
 from __future__ import annotations
 
@@ -60,8 +59,7 @@ def _cmd_keel(args) -> int:
     from .job import load_job
     from .runner import make_keel
 
-    job = load_job(args.job)
-    s = make_keel(job, output=args.output, base_dir=pathlib.Path(args.job).parent)
+    s = make_keel(load_job(args.job), output=args.output, base_dir=pathlib.Path(args.job).parent)
     if s["rank"] == 0:
         print(s["line"])
     return 0
@@ -144,7 +142,7 @@ def _cmd_plot(args) -> int:
     from .postproc.plots import default_out_dir, plot_run
 
     out = pathlib.Path(args.out) if args.out else default_out_dir(args.run)
-    written = plot_run(args.run, out, skip=args.skip)  # a missing or unreadable run file stops here
+    written = plot_run(args.run, out, skip=args.skip, baseline=args.baseline)  # a bad run file stops here
     if not args.no_render:
         with open_run(args.run) as run:
             has_snapshots = bool(run.snapshots)
@@ -330,6 +328,8 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--no-render", action="store_true", help="figures only, no pyvista render")
     pl.add_argument("--skip", type=float, default=0.0, metavar="SECONDS",
                     help="leave out the first SECONDS of the mooring load's spectrum and ice events (seed 003: 1500)")
+    pl.add_argument("--baseline", metavar="RUN", help="a run of the same scene without ice: its mooring load is "
+                    "subtracted, leaving the ice-induced load (seed 003: 'direct current and wave loads excluded')")
     pl.set_defaults(func=_cmd_plot)
     st = sub.add_parser("study", help="run variants of a job (--vary KEY=v1,v2,...) and compare their cost with "
                                       "their peak loads, offsets and line tensions")

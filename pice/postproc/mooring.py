@@ -3,7 +3,8 @@ horizontal force of the lines, its power spectrum (Fig. 12) and the maximum load
 interaction event (Fig. 10). Numbers only; postproc/plots.py draws them (``mooring_load.png``).
 
 * The mooring load is |F_h| of the lines' total pull on a body (series ``mooring_force``), the ice
-  load |F_h| of the ice's (``ice_force``), both [N].
+  load |F_h| of the ice's (``ice_force``), both [N]. With a baseline run (the scene without ice),
+  the mooring load is the ice-induced one: the difference of the two pulls (``ice_induced``).
 * The spectrum is Welch's estimate (scipy.signal.welch, Hann windows of ``SEGMENTS``-th of the record,
   half overlapping) of the load less its mean, one-sided [N^2 s], after ``skip`` seconds (seed 003
   leaves out the first 1500 s, where the structure enters the field).
@@ -27,6 +28,22 @@ def horizontal(run, name: str, body: int = 0):
     if t is None or f is None or f.ndim != 3 or f.shape[1] <= body:
         return None
     return t, np.hypot(f[:, body, 0], f[:, body, 1])
+
+
+def ice_induced(run, baseline, name: str = "mooring_force", body: int = 0):
+    """(t [s], |F_h - F_h,baseline| [N]): the horizontal force vector of series ``name`` less that of a
+    ``baseline`` run of the same scene without the ice (its current and waves alone), interpolated to
+    the run's times. Seed 003 shows its mooring loads so ("the direct current and wave loads have been
+    excluded"); the difference is the ice's share only as far as the loads superpose (the mooring
+    stiffens with offset, and the hull meets the waves where the ice has pushed it). None when either
+    run lacks the series."""
+    t, f = run.series("time"), run.series(name)
+    tb, fb = baseline.series("time"), baseline.series(name)
+    if t is None or f is None or tb is None or fb is None or f.shape[1] <= body or fb.shape[1] <= body:
+        return None
+    dx = f[:, body, 0] - np.interp(t, tb, fb[:, body, 0])
+    dy = f[:, body, 1] - np.interp(t, tb, fb[:, body, 1])
+    return t, np.hypot(dx, dy)
 
 
 def load_spectrum(t: np.ndarray, load: np.ndarray, skip: float = 0.0):

@@ -169,23 +169,28 @@ def platform(run, out: pathlib.Path, **_):
     return _save(fig, out / "platform.png")
 
 
-def mooring_load(run, out: pathlib.Path, skip: float = 0.0, **_):
+def mooring_load(run, out: pathlib.Path, skip: float = 0.0, baseline=None, **_):
     """mooring_load.png: the mooring and ice loads against time, the mooring load's spectrum, and the
-    peak loads of each ice interaction event (postproc/mooring.py); events.csv beside it. None without
-    mooring lines."""
+    peak loads of each ice interaction event (postproc/mooring.py); events.csv beside it. With a
+    ``baseline`` run (open, the scene without ice), the mooring load less the baseline's: the
+    ice-induced load. None without mooring lines."""
     import matplotlib
 
     matplotlib.use("Agg", force=True)
     import matplotlib.pyplot as plt
 
-    from .mooring import EVENT_THRESHOLD, horizontal, interaction_events, load_spectrum, write_events
+    from .mooring import EVENT_THRESHOLD, horizontal, ice_induced, interaction_events, load_spectrum, write_events
 
     moor, ice = horizontal(run, "mooring_force"), horizontal(run, "ice_force")
     if moor is None or not np.any(moor[1]):
         return None
+    label = "mooring load |F_h|"
+    if baseline is not None:
+        moor = ice_induced(run, baseline) or moor
+        label = f"ice-induced mooring load |F_h - F_h of {baseline.path.name}|"
     t, m = moor
     fig, axes = plt.subplots(3, 1, figsize=FIGSIZE, dpi=DPI)  # the spectrum has its own x axis
-    axes[0].plot(t, m / 1e6, lw=1.0, label="mooring load |F_h|")
+    axes[0].plot(t, m / 1e6, lw=1.0, label=label)
     if ice is not None:
         axes[0].plot(t, ice[1] / 1e6, lw=0.6, alpha=0.7, label="ice load |F_h|")
     axes[0].axvline(skip, color="k", lw=0.6, ls=":")
@@ -252,19 +257,22 @@ def default_out_dir(run_path) -> pathlib.Path:
 
 
 def plot_run(run_path: str | os.PathLike, out_dir: str | os.PathLike | None = None, *,
-             skip: float = 0.0) -> list[pathlib.Path]:
+             skip: float = 0.0, baseline: str | os.PathLike | None = None) -> list[pathlib.Path]:
     """Write the PNG figures of a run into ``out_dir`` (default ``<run>_plots/``); return their paths.
-    ``skip`` [s]: the start left out of the mooring load's spectrum and events (postproc/mooring.py)."""
+    ``skip`` [s]: the start left out of the mooring load's spectrum and events (postproc/mooring.py);
+    ``baseline``: a run of the scene without ice, whose mooring load is subtracted."""
+    import contextlib
+
     out = pathlib.Path(out_dir) if out_dir is not None else default_out_dir(run_path)
     written = []
-    with open_run(run_path) as run:
+    with open_run(run_path) as run, (open_run(baseline) if baseline else contextlib.nullcontext()) as base:
         try:
             out.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise OutputError(f"{out}: cannot create the output folder ({exc.strerror or exc})") from None
         for figure in FIGURES:
             try:
-                path = figure(run, out, skip=skip)
+                path = figure(run, out, skip=skip, baseline=base)
             except OSError as exc:
                 raise OutputError(f"{out}: cannot write {figure.__name__} ({exc.strerror or exc})") from None
             if path is not None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pice.postproc.mooring import interaction_events, load_spectrum
+from pice.postproc.mooring import ice_induced, interaction_events, load_spectrum
 
 
 def test_spectrum_of_a_sine_peaks_at_its_frequency_and_holds_its_variance():
@@ -44,3 +44,31 @@ def test_events_are_the_bursts_above_the_threshold():
     assert all(e["mooring_max"] == pytest.approx(0.5 * e["ice_max"]) for e in events)
     assert events[1]["start"] >= 300 and events[1]["end"] <= 320
     assert interaction_events(t, ice, mooring, skip=500.0, threshold=0.1)[0]["ice_max"] == pytest.approx(3.0e6, rel=1e-3)
+
+
+class _Run:
+    """The series of a run file, as postproc/mooring.py reads them."""
+
+    def __init__(self, **series):
+        self._s = series
+
+    def series(self, name):
+        return self._s.get(name)
+
+
+def test_the_ice_induced_load_is_the_pull_less_the_baselines():
+    """Superposition: a run's mooring pull made of a baseline's (current and a 25 s wave, sampled at
+    other times) and an ice pull along y gives back |ice pull| (to the linear interpolation of the
+    baseline's smooth 25 s record between its 0.5 s rows: 1e-3 of its amplitude)."""
+    tb = np.arange(0.0, 600.0, 0.5)
+    base = np.zeros((len(tb), 1, 3))
+    base[:, 0, 0] = 6.7e4 + 1.0e6 * np.sin(2 * np.pi * tb / 25.0)
+    t = np.arange(0.3, 590.0, 3.0)
+    ice = 2.0e5 * (1.0 + np.cos(2 * np.pi * t / 100.0))
+    run = np.zeros((len(t), 1, 3))
+    run[:, 0, 0] = 6.7e4 + 1.0e6 * np.sin(2 * np.pi * t / 25.0)
+    run[:, 0, 1] = ice
+    got_t, got = ice_induced(_Run(time=t, mooring_force=run), _Run(time=tb, mooring_force=base))
+    assert np.array_equal(got_t, t)
+    np.testing.assert_allclose(got, ice, atol=1e-3 * 1.0e6)
+    assert ice_induced(_Run(time=t, mooring_force=run), _Run(time=tb)) is None
