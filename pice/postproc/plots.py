@@ -187,7 +187,7 @@ def mooring_load(run, out: pathlib.Path, skip: float = 0.0, baseline=None, **_):
     label = "mooring load |F_h|"
     if baseline is not None:
         moor = ice_induced(run, baseline) or moor
-        label = f"ice-induced mooring load |F_h - F_h of {baseline.path.name}|"
+        label = f"ice-induced mooring load |F_h - F_h of {baseline.path.parent.name}/{baseline.path.name}|"
     t, m = moor
     fig, axes = plt.subplots(3, 1, figsize=FIGSIZE, dpi=DPI)  # the spectrum has its own x axis
     axes[0].plot(t, m / 1e6, lw=1.0, label=label)
