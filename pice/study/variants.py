@@ -152,11 +152,14 @@ def set_value(data: dict, job, path: tuple, value) -> None:
     node[path[-1]] = value
 
 
-def _own_paths(data: dict, base_dir: pathlib.Path, run: pathlib.Path) -> None:
+def _own_paths(data: dict, base_dir: pathlib.Path, run: pathlib.Path, stem: str) -> None:
     """Make a variant self-contained: its run file is ``run`` (run.output), its checkpoint the default
-    beside it, and mesh files are absolute (the variant lives in another folder than the job)."""
+    beside it, and mesh files and the keel file are absolute (the variant lives in another folder
+    than the job; its variants share the job's keel, io/keel_file.keel_path)."""
     data.setdefault("run", {})["output"] = str(run)
     data["run"].pop("checkpoint", None)
+    if isinstance(data.get("keel"), dict):
+        data["keel"]["file"] = str((base_dir / (data["keel"].get("file") or f"{stem}.keel.h5")).resolve())
     for wall in data.get("walls", []):
         if isinstance(wall.get("file"), str):
             wall["file"] = str((base_dir / wall["file"]).resolve())
@@ -187,7 +190,7 @@ def make_variants(job_path, specs: list[str], *, out_dir) -> list[Variant]:
         for v, value in zip(varies, combo):
             set_value(data, base, v.path, value)
         toml, run = out_dir / f"{job_path.stem}_{k}.toml", out_dir / f"{job_path.stem}_{k}.h5"
-        _own_paths(data, job_path.parent, run)
+        _own_paths(data, job_path.parent, run, job_path.stem)
         text = toml_text(data, header=f"pice study variant {k} of {job_path}: "
                          + ", ".join(f"{key} = {show_value(x)}" for key, x in values.items())
                          + f"\nrun it again: pice run {toml} --overwrite")

@@ -87,3 +87,29 @@ def test_porosity_of_one_block_in_a_small_keel():
     p = porosity(kl, np.array([[0.0, 0.5, -0.5]]), q, rect, 0.3)
     exact = 1.0 - 0.18 / keel_volume(kl)
     assert abs(p - exact) < 4.0 * math.sqrt(exact * (1 - exact) / 200_000)
+
+
+def test_the_table_2_jobs_and_a_friction_study_share_one_keel(tmp_path):
+    """jobs/gong_2017_keel_*.toml are seed 002's Table 2 (half models at w = 17.3-80 m with l_h = 30 m,
+    the full model at l_f = 60 m); a study over mu_i (Table 2: 0.3, 0.6) keeps each variant on the job's
+    one keel file (the friction is not a generation key: io/keel_file.RUN_KEYS)."""
+    import pathlib
+
+    from pice.io.keel_file import RUN_KEYS, keel_path
+    from pice.job import load_job
+    from pice.study.variants import make_variants
+
+    jobs = pathlib.Path(__file__).resolve().parents[2] / "jobs"
+    found = {}
+    for path in sorted(jobs.glob("gong_2017_keel_*.toml")):
+        job = load_job(path)
+        found[path.stem] = (job.keel.width, job.keel.length, job.bodies[0].hull.half)
+    assert found == {"gong_2017_keel_w17_3": (17.3, 30.0, True), "gong_2017_keel_w30": (30.0, 30.0, True),
+                     "gong_2017_keel_w40": (40.0, 30.0, True), "gong_2017_keel_w60": (60.0, 30.0, True),
+                     "gong_2017_keel_w80": (80.0, 30.0, True), "gong_2017_keel_w17_3_full": (17.3, 60.0, False)}
+    assert "contact" in RUN_KEYS
+    base = jobs / "gong_2017_keel_w30.toml"
+    variants = make_variants(base, ["keel.contact.friction=0.3,0.6"], out_dir=tmp_path)
+    files = {v.job.keel.file for v in variants}
+    assert files == {str(keel_path(load_job(base), base.parent).resolve())}
+    assert [v.job.keel.contact.friction for v in variants] == [0.3, 0.6]
