@@ -51,7 +51,7 @@ class _StopRequest:
         return self.comm.max(self.flag) > 0.0
 
 
-def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress=sys.stderr, comm=None,
+def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="stderr", comm=None,
             restart=None) -> dict:
     """Run ``job`` and write ``output``; return a summary. Raises PiceError subclasses on failure.
 
@@ -62,6 +62,7 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress=sys
     created. Checkpoints go to run.checkpoint (default <output>.ckpt.h5) every run.checkpoint_every
     simulated seconds, and when SIGINT/SIGTERM asks the run to stop (RunInterrupted, exit status 130).
     """
+    progress = sys.stderr if progress == "stderr" else progress  # the stream at the call, not at import
     from .io.checkpoint import default_path
 
     if restart is not None:
@@ -171,9 +172,11 @@ def _restarted(job, path, *, base_dir=None, comm=None) -> Simulation:
     return Simulation.from_checkpoint(job, data, base_dir=base_dir, comm=comm)
 
 
-def make_keel(job, *, output=None, base_dir=None, progress=sys.stderr, comm=None) -> dict:
+def make_keel(job, *, output=None, base_dir=None, progress="stderr", comm=None) -> dict:
     """Generate the job's [keel] on the ranks of ``comm`` (physics/keel.py), write its keel file (rank
-    0; ``output``, default keel.file or <job>.keel.h5 beside the job) and return a summary."""
+    0; ``output``, default keel.file or <job>.keel.h5 beside the job) and return a summary. progress:
+    a stream for the settling's progress lines, "stderr" (sys.stderr at the call) or None."""
+    progress = sys.stderr if progress == "stderr" else progress
     from .io.keel_file import keel_path, write_keel
     from .parallel.comm import on_root, world
     from .physics.keel import generate_keel

@@ -75,13 +75,14 @@ def _finished(v: Variant) -> dict | None:
 
 
 def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None = None, settle: float = 0.0,
-              criteria=(), group_size: int | None = None, progress=sys.stderr, comm=None) -> dict | None:
+              criteria=(), group_size: int | None = None, progress="stderr", comm=None) -> dict | None:
     """Run every variant (collective) and write the report; return the study dict on rank 0, None on
     the others. ``settle`` [s]: offsets are taken over t >= settle. ``criteria``: texts of
     study/criteria.py marking each variant pass or fail. ``group_size``: the ranks split into groups
     of that many (parallel/ensemble.py), each running the variants it takes from rank 0's queue,
     largest first (None: all ranks run every variant in turn). Bad input raises JobError before
     anything is written or run."""
+    progress = sys.stderr if progress == "stderr" else progress  # the stream at the call, not at import
     from ..runner import run_job  # looked up at call time (the simulation is heavy to import)
 
     comm = comm if comm is not None else world()
