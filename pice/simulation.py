@@ -32,7 +32,8 @@ from .physics.bond_calibration import bond_params_from_job
 from .physics.boundary import SpringBoundaryTerm
 from .physics.contact import IceContactTerm, ice_contact_law
 from .physics.crushing import crushed_through, remove_elements
-from .physics.floe_system import floe_time_step, rigid_pieces_from_job
+from .physics.floe_system import floe_time_step
+from .physics.rigid_ice import rigid_pieces_from_job
 from .physics.hydro import GravityTerm, WaterTerm, heave_damping, water_from_job
 from .physics.timestep import choose_step, stable_step
 from .physics.walls import WallTerm
@@ -63,8 +64,7 @@ class Simulation:
     def __init__(self, job, *, base_dir=None, comm=None, restart=False, checkpoint=None):
         self.job = job
         self.comm = comm if comm is not None else world()
-        # every rank builds the same whole sheet (deterministic), then keeps its own part
-        refuse_oversized(job, self.comm, base_dir)  # before the sheet is allocated (pice/memory.py)
+        refuse_oversized(job, self.comm, base_dir)  # every rank builds the whole sheet, then keeps its part
         self.p, self.sheet = build_level_ice(job)  # no elements without [ice]
         p = self.p
         self.n_initial = p.n  # elements of the whole sheet (crushed ones are removed)

@@ -334,14 +334,3 @@ def floe_time_step(job, system: FloeSystem | None) -> StepLimit:
     return limit
 
 
-
-def rigid_pieces_from_job(job, hulls, poses, *, comm, base_dir=None) -> FloeSystem | None:
-    """The job's rigid pieces: its [floes] (unless breakable: those are elements of the sheet), or its
-    [keel]'s settled blocks (physics/keel.py), or None."""
-    if job.floes is not None and not job.floes.breakable:
-        return floes_from_job(job, hulls, poses, comm=comm)
-    if job.keel is not None:
-        from .keel import keel_from_job
-
-        return keel_from_job(job, hulls, poses, comm=comm, base_dir=base_dir)
-    return None

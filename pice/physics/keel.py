@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import JobError
 from ..kernels.geometry import quat_mul
 from ..scenes.rubble import inside_keel, porosity, release_blocks
-from .floe_system import FloeSystem
+from .floe_system import FloeSystem, add_body_structures
 from .floes import FloeLaw, Floes, FloeWater, contact_step_limit
 
 log = logging.getLogger("pice")
@@ -141,7 +141,6 @@ def keel_from_job(job, hulls, poses, *, comm, base_dir=None) -> FloeSystem:
     and every body's hull (floe_system.add_body_structures), for a ship run; [keel.contact] may differ
     from the generation's (logged)."""
     from ..io.keel_file import keel_path, read_keel
-    from .floe_system import add_body_structures
 
     keel = job.keel
     path = keel_path(job, base_dir)

@@ -13,7 +13,6 @@ from __future__ import annotations
 import numpy as np
 
 from .floe_field import floe_field
-from .level_ice import hcp_positions
 
 
 def inside_eroded(points: np.ndarray, polygon: np.ndarray, margin: float) -> np.ndarray:
@@ -27,16 +26,13 @@ def inside_eroded(points: np.ndarray, polygon: np.ndarray, margin: float) -> np.
     return keep
 
 
-def bonded_floe_positions(floes, ice, *, d: float, n_layers: int) -> tuple[np.ndarray, np.ndarray]:
-    """Element centres (n, 3) [m] (bottom layer at z = d / 2) and the floe index of each element (n,)
-    of the field ``floes`` ([floes], thickness from ``ice``: every floe is ice.thickness thick).
-    Raises ValueError when the field cannot be drawn or a floe is too small to hold one element."""
-    x0, y0, x1, y1 = floes.area
+def bonded_floe_positions(x: np.ndarray, floes, ice, *, d: float) -> tuple[np.ndarray, np.ndarray]:
+    """The elements of the lattice ``x`` (n, 3) [m] (the level ice's HCP over floes.area, built by
+    scenes/level_ice.py) that belong to a floe of the field ``floes`` ([floes], every floe ice.thickness
+    thick), and the floe index of each. Raises ValueError when the field cannot be drawn or a floe is
+    too small to hold one element of diameter d [m]."""
     field = floe_field(area=floes.area, size=floes.size, thickness=(ice.thickness, ice.thickness),
                        concentration=floes.concentration, seed=floes.seed)
-    x = hcp_positions(length=x1 - x0, width=y1 - y0, d=d, n_layers=n_layers)
-    x[:, 0] += x0
-    x[:, 1] += y0
     owner = np.full(len(x), -1, dtype=np.int64)
     r = 0.5 * d
     for k, poly in enumerate(field.polygons):

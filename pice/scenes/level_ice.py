@@ -17,6 +17,7 @@ from scipy.spatial import cKDTree
 
 from ..errors import JobError
 from ..state import BOND_HIST, KIND_ICE, MAX_BONDS, Particles
+from .bonded_floes import bonded_floe_positions, same_floe
 
 LAYER_SPACING = math.sqrt(2.0 / 3.0)  # HCP layer spacing / d
 ROW_SPACING = math.sqrt(3.0) / 2.0    # in-plane row spacing / d
@@ -108,9 +109,10 @@ def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
     n_layers = 1 if ice.element_volume == "cell" else layer_count(thickness=ice.thickness, element_diameter=d)
     bonded_floes = job.floes is not None and job.floes.breakable
     if bonded_floes:  # the floe field of [floes], built of these elements (scenes/bonded_floes.py)
-        from .bonded_floes import bonded_floe_positions
         try:
-            x, floe = bonded_floe_positions(job.floes, ice, d=d, n_layers=n_layers)
+            x0, y0, x1, y1 = job.floes.area
+            lattice = hcp_positions(length=x1 - x0, width=y1 - y0, d=d, n_layers=n_layers) + [x0, y0, 0.0]
+            x, floe = bonded_floe_positions(lattice, job.floes, ice, d=d)
         except ValueError as exc:
             raise JobError(f"{job.source}: floes: {exc}") from None
     else:
@@ -152,7 +154,6 @@ def build_level_ice(job) -> tuple[Particles, SheetGeometry]:
         bond_L0=np.zeros((n, slots)), bond_hist=np.zeros((n, slots, BOND_HIST)), nlocal=n)
     pairs = cKDTree(x).query_pairs(d * (1.0 + 1e-6), output_type="ndarray")
     if bonded_floes:  # no bond between two floes
-        from .bonded_floes import same_floe
         pairs = same_floe(pairs, floe)
     add_bonds(p, pairs)
     geo = SheetGeometry(n_layers=n_layers, spacing=d, cell_area=cell_area, layer_height=layer_height,

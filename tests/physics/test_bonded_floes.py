@@ -20,7 +20,7 @@ from scipy.sparse.csgraph import connected_components
 
 from pice.scenes.bonded_floes import bonded_floe_positions
 from pice.scenes.floe_field import floe_field
-from pice.scenes.level_ice import build_level_ice
+from pice.scenes.level_ice import build_level_ice, hcp_positions
 from pice.simulation import Simulation
 
 
@@ -30,7 +30,9 @@ def test_bonded_floes_fill_their_polygons_and_bond_within_a_floe():
     fl = job.floes
     field = floe_field(area=fl.area, size=fl.size, thickness=(0.5, 0.5), concentration=fl.concentration,
                        seed=fl.seed)
-    x, floe = bonded_floe_positions(fl, job.ice, d=1.0, n_layers=1)
+    x0, y0, x1, y1 = fl.area
+    lattice = hcp_positions(length=x1 - x0, width=y1 - y0, d=1.0, n_layers=1) + [x0, y0, 0.0]
+    x, floe = bonded_floe_positions(lattice, fl, job.ice, d=1.0)
     assert np.array_equal(x[:, :2], p.x[:, :2])
     r = 0.5
     for k, poly in enumerate(field.polygons):  # each sphere inside its polygon, 1e-12 m round-off
