@@ -52,7 +52,7 @@ class _StopRequest:
 
 
 def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="stderr", comm=None,
-            restart=None) -> dict:
+            restart=None, poll=None) -> dict:
     """Run ``job`` and write ``output``; return a summary. Raises PiceError subclasses on failure.
 
     The run file is created only after the job has been set up (so bad input writes nothing), and it
@@ -61,6 +61,7 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
     ``restart``: a checkpoint to continue from; the run file ``output`` is then continued, not
     created. Checkpoints go to run.checkpoint (default <output>.ckpt.h5) every run.checkpoint_every
     simulated seconds, and when SIGINT/SIGTERM asks the run to stop (RunInterrupted, exit status 130).
+    ``poll``: called with no argument after every chunk of steps (a study's queue served between steps).
     """
     progress = sys.stderr if progress == "stderr" else progress  # the stream at the call, not at import
     from .io.checkpoint import default_path
@@ -99,6 +100,8 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
             if ckpt_every:
                 n = min(n, ckpt_every - sim.c.step % ckpt_every)
             sim.advance(n)
+            if poll is not None:
+                poll()
             if sim.c.step % every == 0 or sim.c.step == total:
                 out.series()
                 out.events()

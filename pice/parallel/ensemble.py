@@ -5,7 +5,10 @@
 group of one rank gets SerialComm, so that a variant runs there exactly as it runs alone on one rank.
 ``WorkQueue`` is a counter in rank 0's memory that each group's leader increments atomically
 (MPI one-sided Fetch_and_op under a passive-target lock): a group that finishes takes the next
-number at once, without rank 0 having to answer (rank 0 runs variants too).
+number at once, without rank 0 having to answer (rank 0 runs variants too). MPICH has no progress
+thread by default: a lock request to rank 0 is served only when rank 0 enters MPI, so rank 0 calls
+``serve`` between the steps of its own variant (run_job's ``poll``); a one-rank variant makes no MPI
+call, and without it the other groups would wait for rank 0's whole variant (seen on 2 ranks).
 """
 
 from __future__ import annotations
@@ -53,6 +56,12 @@ class WorkQueue:
         self.win.Fetch_and_op([one, MPI.INT64_T], [got, MPI.INT64_T], 0, 0, MPI.SUM)
         self.win.Unlock(0)
         return int(got[0])
+
+    def serve(self) -> None:
+        """Let MPI progress the other groups' pending ``take`` (cheap; call it often on rank 0)."""
+        if self.win is not None and self.comm.rank == 0:
+            MPI = self.comm._MPI
+            self.comm.comm.Iprobe(source=MPI.ANY_SOURCE, tag=MPI.ANY_TAG)
 
     def free(self) -> None:
         """Release the window (collective)."""

@@ -176,7 +176,7 @@ def _run_from_queue(order, refused, run_job, *, out_dir, comm, group, colour, pr
             break
         v = order[k]
         row = _run_variant(v, refused.get(v.index), run_job, out_dir=out_dir, progress=progress, comm=group,
-                           count=count, label=f"group {colour}: ")
+                           count=count, label=f"group {colour}: ", poll=queue.serve)
         row["group"] = colour
         if group.rank == 0:
             try:
@@ -197,7 +197,7 @@ def _checkpoint_of(v: Variant) -> str | None:
 
 
 def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress, comm, count: int,
-                 label: str = "") -> dict:
+                 label: str = "", poll=None) -> dict:
     """Run one variant (collective); its row, with ``error`` the reason when its set-up was refused or
     its run stopped (a refused step, a blow-up, a bad geometry): the study goes on."""
     row = dict(variant=v.index, values=v.values, toml=str(v.toml), run=str(v.run), job_text=v.text, error=refused,
@@ -210,6 +210,7 @@ def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress,
         return row
     resume = comm.bcast(_checkpoint_of(v) if comm.rank == 0 else None)
     began = time.perf_counter()
+    row["began"] = time.time()  # [s] since the epoch: the groups' timeline
     try:
         if resume is not None:
             if progress is not None:
@@ -217,7 +218,7 @@ def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress,
                       file=progress, flush=True)
             try:
                 summary = run_job(v.job, output=str(v.run), base_dir=out_dir, progress=progress, comm=comm,
-                                  restart=resume)
+                                  restart=resume, poll=poll)
             except CheckpointError as exc:  # another job wrote it (the study changed): start afresh
                 if progress is not None:
                     print(f"pice study: {label}variant {v.index}: its checkpoint does not fit ({exc}); run from "
@@ -225,15 +226,16 @@ def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress,
                 resume = None
         if resume is None:
             summary = run_job(v.job, output=str(v.run), overwrite=True, base_dir=out_dir, progress=progress,
-                              comm=comm)
+                              comm=comm, poll=poll)
     except (PiceError, FloatingPointError) as exc:  # every rank raises it (the checks are collective)
         row["error"] = str(exc).splitlines()[0]
         row["busy_time"] = time.perf_counter() - began
+        row["ended"] = time.time()
         if progress is not None:
             print(f"pice study: variant {v.index} failed: {row['error']}", file=progress, flush=True)
         return row
-    row.update(busy_time=time.perf_counter() - began, wall_time=summary["wall_time"], steps=summary["steps"],
-               elements=summary["elements"],
+    row.update(busy_time=time.perf_counter() - began, ended=time.time(), wall_time=summary["wall_time"],
+               steps=summary["steps"], elements=summary["elements"],
                particle_steps=(summary["elements"] + summary.get("floes", 0) + summary.get("mooring_node_updates", 0))
                * summary["steps"],
                particle_steps_per_second=summary["particle_steps_per_second"], ranks=summary["ranks"])

@@ -3,13 +3,17 @@ split into two groups of one, which take the variants from rank 0's queue (paral
 
 Reference (issue 16): a variant run in a group gives, bit for bit, the metrics of that variant run
 alone on one rank; every variant runs once; both groups work; the report lists the variants in
-their order; the report gives how busy each group was. A --group-size that does not divide the ranks
+their order; the report gives how busy each group was; a group asking rank 0's queue for work is
+served while rank 0 runs a variant of its own (MPICH has no progress thread: before, the other
+group waited for rank 0's whole variant, and a 2-rank study of two long variants ran them one after
+the other). A --group-size that does not divide the ranks
 is refused (exit status 2, nothing run).
 """
 
 from __future__ import annotations
 
 import pathlib
+import time
 
 import pytest
 from launch import need_two_ranks
@@ -18,6 +22,7 @@ from scenes import slope_job
 from pice.errors import JobError
 from pice.job import load_job
 from pice.parallel.comm import SerialComm
+from pice.parallel.ensemble import WorkQueue
 from pice.runner import run_job
 from pice.study import run_study
 from pice.study.metrics import run_metrics
@@ -65,3 +70,39 @@ def test_group_size_must_divide_the_ranks(tmp_path):
     with pytest.raises(JobError, match="do not split into groups of 3"):
         run_study(base / "tiny.toml", ["run.dt=2e-4"], out_dir=base / "never", group_size=3, progress=None, comm=comm)
     assert not (base / "never").exists()
+
+
+def test_the_queue_is_served_while_rank_0_works():
+    """Rank 0 takes a number, then "runs a variant" for 3 s, serving the queue every 10 ms as run_job's
+    poll does; rank 1's take must return long before that (bound 1.5 s: a served request takes
+    milliseconds, an unserved one the whole 3 s)."""
+    comm = need_two_ranks()
+    queue = WorkQueue(comm)
+    t0 = time.perf_counter()
+    if comm.rank == 0:
+        assert queue.take() in (0, 1)
+        while time.perf_counter() - t0 < 3.0:
+            time.sleep(0.01)
+            queue.serve()
+        waited = 0.0
+    else:
+        time.sleep(0.2)  # rank 0 has taken its number and is "running"
+        got = queue.take()
+        waited = time.perf_counter() - t0
+        assert got in (0, 1)
+    waited = comm.max(waited)
+    queue.free()
+    assert waited < 1.5, f"rank 1 waited {waited:.2f} s for the queue while rank 0 worked"
+
+
+def test_two_long_variants_run_side_by_side(tmp_path):
+    """Each group's variant begins before the other's ends (the rows' wall-clock timeline)."""
+    comm = need_two_ranks()
+    base = _shared_folder(comm, tmp_path)
+    study = run_study(base / "tiny.toml", ["run.duration=0.4,0.5"], out_dir=base / "study", group_size=1,
+                      progress=None, comm=comm)
+    if comm.rank != 0:
+        return
+    rows = study["variants"]
+    assert {r["group"] for r in rows} == {0, 1} and all(r["error"] is None for r in rows)
+    assert max(r["began"] for r in rows) < min(r["ended"] for r in rows), rows
