@@ -7,6 +7,8 @@ import math
 import pathlib
 import sys
 
+from .study.command import add_study_parser
+
 
 def _cmd_run(args) -> int:
     from .job import load_job
@@ -154,19 +156,6 @@ def _cmd_plot(args) -> int:
         else:
             print(f"pice: {args.run} holds no snapshots: nothing to render", file=sys.stderr)
     print(f"pice: wrote {len(written)} PNG file(s) in {out}: " + ", ".join(p.name for p in written))
-    return 0
-
-
-def _cmd_study(args) -> int:
-    from .study import run_study
-    from .study.report import study_table
-
-    study = run_study(args.job, args.vary, out_dir=args.out, reference=args.reference, settle=args.settle,
-                      criteria=args.criterion or (), group_size=args.group_size)
-    if study is not None:  # rank 0
-        print("\n".join(study_table(study)))
-        print(f"pice: wrote {len(study['variants'])} run(s) and " + ", ".join(pathlib.Path(p).name for p in study["files"])
-              + f" in {study['out_dir']}")
     return 0
 
 
@@ -331,25 +320,7 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--baseline", metavar="RUN", help="a run of the same scene without ice: its mooring load is "
                     "subtracted, leaving the ice-induced load (seed 003: 'direct current and wave loads excluded')")
     pl.set_defaults(func=_cmd_plot)
-    st = sub.add_parser("study", help="run variants of a job (--vary KEY=v1,v2,...) and compare their cost with "
-                                      "their peak loads, offsets and line tensions")
-    st.add_argument("job")
-    st.add_argument("--vary", action="append", required=True, metavar="KEY=V1,V2,...",
-                    help="a key of the job as the TOML file writes it (run.dt, ice.element_diameter, "
-                         "moorings[0].element_length) and its values; several --vary: every combination")
-    st.add_argument("--out", metavar="DIR", help="folder of the variants' jobs and runs and the report "
-                                                 "(default runs/<job>_study/)")
-    st.add_argument("--reference", type=int, metavar="K",
-                    help="compare with variant K (default: the finest, the most particle-steps)")
-    st.add_argument("--settle", type=float, default=0.0, metavar="SECONDS",
-                    help="offsets over t >= SECONDS only (default 0)")
-    st.add_argument("--group-size", type=int, metavar="G",
-                    help="split the ranks into groups of G that run different variants side by side, taking "
-                         "them from a queue on rank 0, largest first (default: every variant on all ranks)")
-    st.add_argument("--criterion", action="append", metavar="\"METRIC OP NUMBER\"",
-                    help="mark each variant pass or fail, e.g. \"max_pitch_deg < 15\" (metrics named as the "
-                         "CSV's columns, with their unit); several: all must hold")
-    st.set_defaults(func=_cmd_study)
+    add_study_parser(sub)
     _add_lab_parser(sub)
     _add_bench_parser(sub)
     return ap

@@ -272,3 +272,23 @@ point = [{wall_x!r}, 0.0, 0.0]
 normal = [-1.0, 0.0, 0.0]
 friction = 0.15
 """
+
+
+# A sweep file (study/sweep.py) over three barge designs of 1, 2 and 3 kt next to barge_job(duration=0.01,
+# mooring="dem") written as barge.toml: the first phase keeps mass < 2.5 kt, the second all upright.
+BARGE_SWEEP = """\
+[study]
+job = "barge.toml"
+minimize = "mass_kg"
+[study.vary]
+"bodies[0].mass" = [1.0e6, 2.0e6, 3.0e6]
+[study.set]
+"run.snapshots" = 2
+[[study.phases]]
+name = "light"
+criteria = ["mass_kg < 2.5e6"]
+[[study.phases]]
+name = "upright"
+criteria = ["max_heel_deg < 90"]
+set = {"run.duration" = 0.02}
+"""

@@ -16,8 +16,16 @@ One module per step; each imports only modules listed above it (no import circle
     plot.py       the figure: each metric's change against the wall time of each variant
     report.py     the printed table, study.csv, study.json and study.png
     runner.py     run_study: set every variant up, run them, measure them, write the report
+    sweep.py      a sweep file: designs through phases, each running those the last one passed
+    command.py    the `pice study` command line (imported by pice/cli.py; imports the rest when run)
 """
 
-from .runner import run_study
-
 __all__ = ["run_study"]
+
+
+def __getattr__(name):  # run_study imported on first use: `pice --help` does not load the simulation
+    if name == "run_study":
+        from .runner import run_study
+
+        return run_study
+    raise AttributeError(name)

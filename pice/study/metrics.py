@@ -18,7 +18,9 @@ the walls when the job has no bodies):
   ``max_heel`` [deg] (criterion (1), no overturning: max_heel_deg < 90), ``draft``, ``min_draft``,
   ``max_draft`` [m] (criterion (3)), ``min_rim_freeboard`` [m] (criterion (4): the upward slope
   never under water, min_rim_freeboard_m > 0) and ``max_offset_of_depth`` [%] (criteria (5), (7):
-  max_offset_of_depth_pct <= 15 or 25).
+  max_offset_of_depth_pct <= 15 or 25);
+* ``mass`` [kg]: body 0's mass as the run resolved it (the file's ``body_mass``; the buoy sweep's
+  objective, seed 004 section 6.2.4).
 
 Change against the reference: 100 (v - v_ref) / |v_ref| [%]. A metric a run does not have (no
 body: offsets and tensions) is NaN.
@@ -38,7 +40,7 @@ METRICS = (("peak_load_x", "N", "peak ice load Fx"), ("peak_load_z", "N", "peak 
            ("mean_offset", "m", "mean offset"), ("max_offset", "m", "max offset"),
            ("max_fairlead_tension", "N", "max fairlead tension"), ("max_pitch", "deg", "max |pitch|"),
            ("max_roll", "deg", "max |roll|"), ("max_mooring_load", "N", "max mooring load"),
-           ("mean_mooring_load", "N", "mean mooring load"), *HULL_METRICS)
+           ("mean_mooring_load", "N", "mean mooring load"), ("mass", "kg", "mass"), *HULL_METRICS)
 
 
 def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
@@ -80,6 +82,9 @@ def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
         if rotation is not None and rotation.shape[1] > 0 and len(rotation):
             out["max_roll"] = float(math.degrees(np.abs(rotation[:, 0, 0]).max()))
             out["max_pitch"] = float(math.degrees(np.abs(rotation[:, 0, 1]).max()))
+        masses = run.attrs.get("body_mass")
+        if masses is not None and len(masses):
+            out["mass"] = float(masses[0])
         out.update(hull_metrics(run, settle=settle, max_offset=out["max_offset"]))
     return out
 
@@ -94,11 +99,12 @@ def change_percent(value: float, reference: float) -> float:
 
 
 def compare(rows: list[dict], reference: int | None = None) -> int:
-    """Add each row's ``change_pct`` against the reference row (default: the most particle-steps,
-    the first of equals); return the reference's index."""
-    ref = reference if reference is not None else max(range(len(rows)), key=lambda k: rows[k]["particle_steps"])
+    """Add each row's ``change_pct`` against the reference row: variant number ``reference``, by
+    default the most particle-steps (the first of equals); return the reference's variant number."""
+    pos = ([r["variant"] for r in rows].index(reference) if reference is not None
+           else max(range(len(rows)), key=lambda k: rows[k]["particle_steps"]))
     for row in rows:
         nan = float("nan")  # a metric a row lacks (a study written before it existed) compares as NaN
-        row["change_pct"] = {name: change_percent(row["metrics"].get(name, nan), rows[ref]["metrics"].get(name, nan))
+        row["change_pct"] = {name: change_percent(row["metrics"].get(name, nan), rows[pos]["metrics"].get(name, nan))
                              for name, _, _ in METRICS}
-    return ref
+    return rows[pos]["variant"]

@@ -18,7 +18,7 @@ from .metrics import METRICS
 from .plot import plot_study
 from .variants import show_value
 
-_TABLE_SCALE = {"N": (1e3, "kN"), "m": (1.0, "m"), "deg": (1.0, "deg"), "pct": (1.0, "%")}
+_TABLE_SCALE = {"N": (1e3, "kN"), "m": (1.0, "m"), "deg": (1.0, "deg"), "pct": (1.0, "%"), "kg": (1e3, "t")}
 
 
 def study_table(study: dict) -> list[str]:
@@ -55,7 +55,8 @@ def study_table(study: dict) -> list[str]:
     settle = f"; offsets over t >= {study['settle']:g} s" if study["settle"] else ""
     title = f"pice study of {study['job']}: {len(body)} variant(s), * = {rule}; loads on {study['loads_on']}"
     rows = study["variants"]
-    tied = [r["variant"] for r in rows if r["particle_steps"] == rows[ref]["particle_steps"]]
+    ref_steps = next(r["particle_steps"] for r in rows if r["variant"] == ref)
+    tied = [r["variant"] for r in rows if r["particle_steps"] == ref_steps]
     note = []
     if study["reference_rule"] != "--reference" and len(tied) > 1:
         note = [f"note: variants {', '.join(map(str, tied))} cost the same particle-steps: the first is the "

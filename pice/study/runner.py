@@ -74,13 +74,14 @@ def _finished(v: Variant) -> dict | None:
         return None
 
 
-def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None = None, settle: float = 0.0,
-              criteria=(), group_size: int | None = None, progress="stderr", comm=None) -> dict | None:
+def run_study(job_path, specs: list, *, out_dir=None, reference: int | None = None, settle: float = 0.0,
+              criteria=(), group_size: int | None = None, progress="stderr", comm=None, keep=None) -> dict | None:
     """Run every variant (collective) and write the report; return the study dict on rank 0, None on
     the others. ``settle`` [s]: offsets are taken over t >= settle. ``criteria``: texts of
     study/criteria.py marking each variant pass or fail. ``group_size``: the ranks split into groups
     of that many (parallel/ensemble.py), each running the variants it takes from rank 0's queue,
-    largest first (None: all ranks run every variant in turn). Bad input raises JobError before
+    largest first (None: all ranks run every variant in turn). ``keep``: which combinations of the
+    specs run (study/variants.make_variants; a phase of a sweep). Bad input raises JobError before
     anything is written or run."""
     progress = sys.stderr if progress == "stderr" else progress  # the stream at the call, not at import
     from ..runner import run_job  # looked up at call time (the simulation is heavy to import)
@@ -95,8 +96,10 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
         group, colour, ngroups = split(comm, group_size) if group_size is not None else (comm, 0, 1)
     except ValueError as exc:
         raise JobError(str(exc)) from None
-    variants = make_variants(job_path, specs, out_dir=out_dir)
-    if reference is not None and not 0 <= reference < len(variants):
+    variants = make_variants(job_path, specs, out_dir=out_dir, keep=keep)
+    if not variants:
+        raise JobError(f"{job_path}: no variant to run (every combination was left out)")
+    if reference is not None and reference not in {v.index for v in variants}:
         raise JobError(f"--reference {reference}: must be a variant number 0..{len(variants) - 1}")
     done = comm.bcast({v.index: _finished(v) for v in variants} if comm.rank == 0 else None)
     todo = [v for v in variants if done[v.index] is None]
@@ -110,11 +113,11 @@ def run_study(job_path, specs: list[str], *, out_dir=None, reference: int | None
     start = time.perf_counter()
     if ngroups == 1:
         mine = _run_in_turn(todo, refused, run_job, out_dir=out_dir, comm=comm,
-                            progress=progress if comm.rank == 0 else None, count=len(variants))
+                            progress=progress if comm.rank == 0 else None, count=variants[0].total)
     else:
         order = sorted(todo, key=lambda v: (-cost.get(v.index, 0), v.index))
         mine = _run_from_queue(order, refused, run_job, out_dir=out_dir, comm=comm, group=group, colour=colour,
-                               progress=progress if group.rank == 0 else None, count=len(variants))
+                               progress=progress if group.rank == 0 else None, count=variants[0].total)
     gathered = comm.gather(mine)
     elapsed = time.perf_counter() - start
     rows = []

@@ -12,6 +12,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import itertools
+import math
 import pathlib
 import re
 
@@ -49,6 +50,7 @@ class Variant:
     toml: pathlib.Path
     run: pathlib.Path
     label: str  # "x.toml with run.dt = 0.0001": the source named by its error messages
+    total: int = 1  # the number of combinations of the study (variants left out by ``keep`` included)
 
 
 def key_path(key: str) -> tuple:
@@ -169,13 +171,16 @@ def _own_paths(data: dict, base_dir: pathlib.Path, run: pathlib.Path, stem: str)
             hull["file"] = str((base_dir / hull["file"]).resolve())
 
 
-def make_variants(job_path, specs: list[str], *, out_dir) -> list[Variant]:
-    """Every combination of the ``--vary`` specs, validated by parse_job (JobError for the first bad
-    one, before anything is written). Writes nothing."""
+def make_variants(job_path, specs: list, *, out_dir, keep=None) -> list[Variant]:
+    """Every combination of the ``--vary`` specs (texts, or Vary), validated by parse_job (JobError for
+    the first bad one, before anything is written). Writes nothing. ``keep``: a test of a combination's
+    values (dict key -> value); the combinations it rejects are left out, and the others keep their
+    numbers in the full product (a phase of a sweep, study/sweep.py)."""
     job_path, out_dir = pathlib.Path(job_path), pathlib.Path(out_dir)
     base = load_job(job_path)
     data0 = tomllib.loads(base.text)
-    varies = [parse_vary(s) for s in specs]
+    varies = [s if isinstance(s, Vary) else parse_vary(s) for s in specs]
+    total = math.prod(len(v.values) for v in varies)
     seen = set()
     for v in varies:
         if v.key in seen:
@@ -185,6 +190,8 @@ def make_variants(job_path, specs: list[str], *, out_dir) -> list[Variant]:
     variants = []
     for k, combo in enumerate(itertools.product(*(v.values for v in varies))):
         values = {v.key: value for v, value in zip(varies, combo)}
+        if keep is not None and not keep(values):
+            continue
         label = f"{job_path} with " + ", ".join(f"{key} = {show_value(x)}" for key, x in values.items())
         data = copy.deepcopy(data0)
         for v, value in zip(varies, combo):
@@ -196,7 +203,7 @@ def make_variants(job_path, specs: list[str], *, out_dir) -> list[Variant]:
                          + f"\nrun it again: pice run {toml} --overwrite")
         job = parse_job(tomllib.loads(text), source=label, text=text, base_dir=job_path.parent)
         variants.append(Variant(index=k, values=values, job=job.model_copy(update={"source": str(toml)}),
-                                text=text, toml=toml, run=run, label=label))
+                                text=text, toml=toml, run=run, label=label, total=total))
     return variants
 
 

@@ -167,14 +167,16 @@ def test_metrics_without_bodies_sum_the_walls(tmp_path):
 def test_change_against_the_finest_variant():
     assert change_percent(90.0, 100.0) == -10.0 and change_percent(-110.0, -100.0) == -10.0
     assert change_percent(0.0, 0.0) == 0.0 and math.isnan(change_percent(1.0, 0.0))
-    rows = [{"particle_steps": n, "metrics": {"peak_load_x": x, "peak_load_z": 1.0, "mean_offset": float("nan"),
+    rows = [{"variant": k, "particle_steps": n, "metrics": {"peak_load_x": x, "peak_load_z": 1.0, "mean_offset": float("nan"),
                                                "max_offset": 2.0, "max_fairlead_tension": 3.0, "max_pitch": 4.0,
                                                "max_roll": 5.0}}
-            for n, x in ((100, 80.0), (400, 100.0), (200, 125.0))]
+            for k, n, x in ((0, 100, 80.0), (1, 400, 100.0), (2, 200, 125.0))]
     assert compare(rows) == 1
     assert [r["change_pct"]["peak_load_x"] for r in rows] == [-20.0, 0.0, 25.0]
     assert math.isnan(rows[0]["change_pct"]["mean_offset"])
     assert compare(rows, reference=0) == 0 and rows[1]["change_pct"]["peak_load_x"] == 25.0
+    del rows[0]  # a phase of a sweep: variants keep their numbers in the full product
+    assert compare(rows) == 1 and compare(rows, reference=2) == 2 and rows[0]["change_pct"]["peak_load_x"] == -20.0
 
 
 # -- the TOML writer --------------------------------------------------------------------------------

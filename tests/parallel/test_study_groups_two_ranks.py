@@ -106,3 +106,26 @@ def test_two_long_variants_run_side_by_side(tmp_path):
     rows = study["variants"]
     assert {r["group"] for r in rows} == {0, 1} and all(r["error"] is None for r in rows)
     assert max(r["began"] for r in rows) < min(r["ended"] for r in rows), rows
+
+
+def test_a_sweep_file_in_groups_of_one(tmp_path):
+    """tests/io/test_sweep.py's sweep (three barge designs, two phases) on two groups of one: the same
+    verdicts, and the second phase runs only the designs the first passed."""
+    from scenes import BARGE_SWEEP, barge_job
+
+    from pice.study.sweep import run_sweep
+
+    comm = need_two_ranks()
+    base = pathlib.Path(comm.bcast(str(tmp_path)))
+    if comm.rank == 0:
+        (base / "barge.toml").write_text(barge_job(duration=0.01, mooring="dem"))
+        (base / "sweep.toml").write_text(BARGE_SWEEP)
+    comm.barrier()
+    summary = run_sweep(base / "sweep.toml", out_dir=base / "out", group_size=1, progress=None, comm=comm)
+    if comm.rank != 0:
+        assert summary is None
+        return
+    assert [d["light"] for d in summary["designs"]] == ["pass", "pass", "fail: mass_kg < 2.5e+06"]
+    assert [d["upright"] for d in summary["designs"]] == ["pass", "pass", "not run"]
+    assert summary["selected"]["bodies[0].mass"] == 1.0e6
+    assert sorted(p.name for p in (base / "out" / "upright").glob("*.h5")) == ["barge_0.h5", "barge_1.h5"]
