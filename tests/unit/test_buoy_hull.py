@@ -165,3 +165,19 @@ def test_stationary_drafts_of_table_6_2():
             kept += ours is not None and 0.6 <= ours <= 2.4
     kept += sum(0.6 <= (_draft_alone(d, 70.0) or 99.0) <= 2.4 for d in D_MAX)
     assert kept == 51  # seed 004, section 6.2.1: "in total 51 combinations ... satisfy ... criterion (3)"
+
+
+def test_the_design_sweep_file_builds_every_design_of_every_phase(tmp_path):
+    """jobs/cai_2018_buoy_sweep.toml: Table 6-1's 72 designs, each valid in each of the three phases,
+    with the phase's own values (the extreme phase's 0.2 m/s)."""
+    from pice.study.sweep import _phase_specs, load_sweep
+    from pice.study.variants import make_variants
+
+    path = REPO / "jobs" / "cai_2018_buoy_sweep.toml"
+    study = load_sweep(path)
+    assert [p.name for p in study.phases] == ["draft", "normal", "extreme"]
+    for phase in study.phases:
+        variants = make_variants(path.parent / study.job, _phase_specs(study, phase), out_dir=tmp_path)
+        assert len(variants) == 72
+        ice = variants[-1].job.ice
+        assert ice.velocity[0] == (0.2 if phase.name == "extreme" else 0.1) and ice.element_diameter == 1.0
