@@ -2,7 +2,7 @@
 overlap of two polyhedra; numba, arrays in and out, no MPI).
 
 For each pair (a, b), a the lower gid, whose bounding spheres meet, the overlap of their world
-polyhedra (kernels/polyhedra.contact_geometry) gives the normal n (from a towards b), the contact
+polyhedra (kernels/polyhedra.contact_geometry_planes, with the face planes computed once a step) gives the normal n (from a towards b), the contact
 area A_c and the depth delta = V / A_c, at the overlap's centroid. The law is the one of every
 contact in pice (kernels/contact_law.py): F_n = k_n (delta - delta_p) - c_n u_n, 0 <= F_n <= sigma_c A_c
 (the excess becomes plastic penetration delta_p), and a tangential spring capped at mu F_n. The
@@ -33,7 +33,8 @@ from numba import njit
 from . import JIT
 from .contact_law import plastic_normal_force, tangential_force
 from .contacts import _find_slot, build_cell_list, cell_neighbourhood
-from .polyhedra import clip, contact_geometry, face_planes, separated_by_planes, volume_centroid
+from .polyhedra import (clip, contact_geometry, contact_geometry_planes, face_planes, separated_by_planes,
+                        volume_centroid)
 
 PAIR_RECORD = 11
 STRUCTURE_RECORD = 13
@@ -79,7 +80,7 @@ def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, 
             or separated_by_planes(planes[j], counts[j], pts[i], counts[i])):
         return nrec, nplastic, worst
     a, b = (i, j) if gid[i] < gid[j] else (j, i)
-    vol, c, nrm, area, depth = contact_geometry(pts[a], counts[a], pts[b], counts[b])
+    vol, c, nrm, area, depth = contact_geometry_planes(pts[a], counts[a], planes[a], pts[b], counts[b], planes[b])
     if vol <= 0.0:
         return nrec, nplastic, worst
     worst = max(worst, vol)

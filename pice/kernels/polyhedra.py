@@ -307,9 +307,118 @@ def separated_by_planes(planes, counts, pts, other_counts):
 
 
 @njit(**JIT)
+def _inside_part(poly, count, planes, pcounts, buf):
+    """The part of the convex polygon poly[:count] on the inner side (n . x <= offset + EPS) of every
+    face plane (planes (F, 4): unit normal, offset; pcounts (F,): those with >= 3 vertices are faces):
+    (index of buf (2, W, 3) holding it, its size; < 3 when nothing of it is inside)."""
+    for k in range(count):
+        buf[0, k, 0], buf[0, k, 1], buf[0, k, 2] = poly[k, 0], poly[k, 1], poly[k, 2]
+    cur, n = 0, count
+    for f in range(planes.shape[0]):
+        if pcounts[f] < 3:
+            continue
+        n0, n1, n2, off = planes[f, 0], planes[f, 1], planes[f, 2], planes[f, 3]
+        out = False
+        inside = False
+        for k in range(n):
+            d = n0 * buf[cur, k, 0] + n1 * buf[cur, k, 1] + n2 * buf[cur, k, 2] - off
+            if d > EPS:
+                out = True
+            else:
+                inside = True
+        if not out:
+            continue
+        if not inside:
+            return cur, 0
+        n = _clip_face(buf[cur], n, n0, n1, n2, off, buf[1 - cur])
+        cur = 1 - cur
+        if n < 3:
+            return cur, 0
+    return cur, n
+
+
+@njit(**JIT)
+def _coplanar(plane, planes, pcounts):
+    """True when ``plane`` (4,) is one of ``planes`` (same outward normal and offset, within EPS)."""
+    for f in range(planes.shape[0]):
+        if (pcounts[f] >= 3 and abs(planes[f, 3] - plane[3]) <= EPS
+                and planes[f, 0] * plane[0] + planes[f, 1] * plane[1] + planes[f, 2] * plane[2] >= 1.0 - 1e-12):
+            return True
+    return False
+
+
+@njit(**JIT)
+def contact_geometry_planes(a_pts, a_counts, a_planes, b_pts, b_counts, b_planes):
+    """``contact_geometry`` with the face planes of A and B given (face_planes, one body each).
+
+    The overlap's surface is the part of A's surface inside B with the part of B's surface inside A:
+    each face of one clipped by the other's face planes (Sutherland-Hodgman), no cap faces to build.
+    A face of B in the plane of a face of A, facing the same way, is A's (as ``overlap`` keeps it). The
+    volume and centroid are sums of tetrahedra over those faces (``volume_centroid``), S_A the sum of
+    the vector areas of A's parts."""
+    width = max(a_pts.shape[1], b_pts.shape[1]) + a_planes.shape[0] + b_planes.shape[0] + 1
+    buf = np.empty((2, width, 3))
+    vol = c0 = c1 = c2 = s0 = s1 = s2 = 0.0
+    r0 = r1 = r2 = 0.0
+    have_ref = False
+    for side in range(2):
+        pts, counts = (a_pts, a_counts) if side == 0 else (b_pts, b_counts)
+        planes, pcounts = (b_planes, b_counts) if side == 0 else (a_planes, a_counts)
+        for f in range(counts.shape[0]):
+            if counts[f] < 3:
+                continue
+            if side == 1 and _coplanar(b_planes[f], a_planes, a_counts):
+                continue
+            cur, m = _inside_part(pts[f], counts[f], planes, pcounts, buf)
+            if m < 3:
+                continue
+            p = buf[cur]
+            if not have_ref:
+                r0, r1, r2 = p[0, 0], p[0, 1], p[0, 2]
+                have_ref = True
+            a0, a1, a2 = p[0, 0] - r0, p[0, 1] - r1, p[0, 2] - r2
+            for i in range(1, m - 1):
+                b0, b1, b2 = p[i, 0] - r0, p[i, 1] - r1, p[i, 2] - r2
+                d0, d1, d2 = p[i + 1, 0] - r0, p[i + 1, 1] - r1, p[i + 1, 2] - r2
+                v6 = a0 * (b1 * d2 - b2 * d1) - a1 * (b0 * d2 - b2 * d0) + a2 * (b0 * d1 - b1 * d0)
+                vol += v6
+                c0 += v6 * (a0 + b0 + d0)
+                c1 += v6 * (a1 + b1 + d1)
+                c2 += v6 * (a2 + b2 + d2)
+                if side == 0:
+                    e0, e1, e2 = b0 - a0, b1 - a1, b2 - a2
+                    g0, g1, g2 = d0 - a0, d1 - a1, d2 - a2
+                    s0 += 0.5 * (e1 * g2 - e2 * g1)
+                    s1 += 0.5 * (e2 * g0 - e0 * g2)
+                    s2 += 0.5 * (e0 * g1 - e1 * g0)
+    centre = np.full(3, np.nan)
+    normal = np.zeros(3)
+    if vol <= 0.0:
+        return 0.0, centre, normal, 0.0, 0.0
+    centre[0], centre[1], centre[2] = c0 / (4.0 * vol) + r0, c1 / (4.0 * vol) + r1, c2 / (4.0 * vol) + r2
+    vol /= 6.0
+    area = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+    if area <= 0.0:
+        return vol, centre, normal, 0.0, 0.0
+    normal[0], normal[1], normal[2] = s0 / area, s1 / area, s2 / area
+    return vol, centre, normal, area, vol / area
+
+
+@njit(**JIT)
 def contact_geometry(a_pts, a_counts, b_pts, b_counts):
     """(overlap volume [m^3], its centroid (3,) [m], unit normal from A towards B, contact area A_c
-    [m^2], depth delta = V / A_c [m]) of two convex polyhedra (module docstring); volume 0 when apart."""
+    [m^2], depth delta = V / A_c [m]) of two convex polyhedra (module docstring); volume 0 when apart.
+    Computed from the faces of each clipped by the other (``contact_geometry_planes``); ``overlap``,
+    the clipped polyhedron itself, gives the same to round-off (tests/unit/test_polyhedra.py)."""
+    pa = face_planes(a_pts.reshape((1,) + a_pts.shape), a_counts.reshape((1,) + a_counts.shape))[0]
+    pb = face_planes(b_pts.reshape((1,) + b_pts.shape), b_counts.reshape((1,) + b_counts.shape))[0]
+    return contact_geometry_planes(a_pts, a_counts, pa, b_pts, b_counts, pb)
+
+
+@njit(**JIT)
+def contact_geometry_clipped(a_pts, a_counts, b_pts, b_counts):
+    """``contact_geometry`` from the overlap polyhedron itself (``overlap``: A clipped by B's planes,
+    with cap faces): the reference the face-clipping computation is tested against."""
     if separated(a_pts, a_counts, b_pts, b_counts):
         return 0.0, np.full(3, np.nan), np.zeros(3), 0.0, 0.0
     pts, counts, side = overlap(a_pts, a_counts, b_pts, b_counts)

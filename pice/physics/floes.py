@@ -151,6 +151,7 @@ class Floes:
         centre = v.mean(axis=0) if centre is None else np.asarray(centre, float)
         local = np.zeros((len(triangles), 3, 3))
         local[:] = (v - centre)[np.asarray(triangles)]
+        _require_convex(local, v - centre)
         bound = float(np.linalg.norm(v - centre, axis=1).max())
         self.structures.append({"local": local, "counts": np.full(len(triangles), 3, np.int64), "bound": bound,
                                 "x": centre.copy(), "q": np.array([1.0, 0.0, 0.0, 0.0]), "v": np.zeros(3),
@@ -298,3 +299,18 @@ def contact_step_limit(law: FloeLaw, m_eff: float) -> float:
     omega = math.sqrt(law.kn / m_eff)
     zeta = law.cn / (2.0 * math.sqrt(m_eff * law.kn))
     return 2.0 / omega * (math.sqrt(1.0 + zeta * zeta) - zeta)
+
+
+def _require_convex(faces: np.ndarray, vertices: np.ndarray) -> None:
+    """ValueError unless every vertex lies inside every face's plane (to 1e-5 of the body's size): the
+    contact geometry (kernels/polyhedra.py) is that of convex bodies only."""
+    a, b, c = faces[:, 0], faces[:, 1], faces[:, 2]
+    n = np.cross(b - a, c - a)
+    size = np.linalg.norm(n, axis=1)
+    ok = size > 0.0
+    n, a = n[ok] / size[ok, None], a[ok]
+    beyond = (vertices @ n.T - np.einsum("ij,ij->i", n, a)).max()
+    scale = float(np.ptp(vertices, axis=0).max())
+    if beyond > 1e-5 * scale:
+        raise ValueError(f"the structure is not convex: a vertex lies {beyond:.3g} m beyond a face's plane; split "
+                         "it into convex pieces (a revolved hull: one piece per ring to the next)")

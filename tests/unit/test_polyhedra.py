@@ -111,3 +111,39 @@ def test_separated_is_conservative():
             calls += 1
             assert volume_centroid(*overlap(*a, *b)[:2])[0] == 0.0
     assert 50 < calls < 450  # both outcomes exercised
+
+
+def _random_box(rng, centre_spread):
+    """A box of 0.3 x (0.37-0.86) x (0.6-1.4) m (a rubble block of issue 15), turned at random."""
+    from scipy.spatial.transform import Rotation
+
+    length = rng.uniform(0.6, 1.4)
+    pts, counts = prism(np.array([[0.0, 0.0], [length, 0.0], [length, 0.615 * length], [0.0, 0.615 * length]])
+                        - [length / 2, 0.3075 * length], -0.15, 0.15)
+    turn = Rotation.random(random_state=rng).as_matrix()
+    return pts @ turn.T + rng.uniform(-centre_spread, centre_spread, 3), counts
+
+
+def test_face_clipping_gives_the_overlap_polyhedron_to_round_off():
+    """contact_geometry (the faces of each body clipped by the other's planes) against
+    contact_geometry_clipped (the overlap polyhedron, A clipped by B's planes with cap faces): the
+    same volume, centroid, normal and area to 1e-9 over 300 random pairs of turned blocks and 100
+    of turned hexagonal floes, about 85 % of them overlapping (the two are the same sums over the
+    same surface; 1e-9 leaves room for the round-off of the cuts' points)."""
+    from pice.kernels.polyhedra import contact_geometry_clipped
+
+    rng = np.random.default_rng(7)
+    pairs = [(_random_box(rng, 0.0), _random_box(rng, 0.35)) for _ in range(300)]
+    for _ in range(100):
+        a = prism(_hexagon(1.0, (0.0, 0.0), rng.uniform(0, 1)), -0.5, 0.5)
+        b = prism(_hexagon(0.8, rng.uniform(-1.2, 1.2, 2), rng.uniform(0, 1)), rng.uniform(-0.8, 0.0), 0.6)
+        pairs.append((a, b))
+    touching = 0
+    for a, b in pairs:
+        new, ref = contact_geometry(*a, *b), contact_geometry_clipped(*a, *b)
+        assert new[0] == pytest.approx(ref[0], rel=1e-9, abs=1e-15)
+        if ref[0] > 1e-12:
+            touching += 1
+            np.testing.assert_allclose(new[1], ref[1], atol=1e-9)
+            np.testing.assert_allclose(new[2] * new[3], ref[2] * ref[3], atol=1e-9)
+    assert touching > 300
