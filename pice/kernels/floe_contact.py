@@ -33,8 +33,7 @@ from numba import njit
 from . import JIT
 from .contact_law import plastic_normal_force, tangential_force
 from .contacts import _find_slot, build_cell_list, cell_neighbourhood
-from .polyhedra import (clip, contact_geometry, contact_geometry_planes, face_planes, separated_by_planes,
-                        volume_centroid)
+from .polyhedra import contact_geometry, contact_geometry_planes, face_planes, part_inside, separated_by_planes
 
 PAIR_RECORD = 11
 STRUCTURE_RECORD = 13
@@ -225,13 +224,14 @@ def _on_structure(i, c, n0, n1, n2, area, depth, x, v, omega, mass, s_centre, s_
 def plane_contacts(lo, hi, x, v, omega, mass, pts, counts, normal, offset, kn, cn, kt, mu, pressure, dt, step,
                    slot_gid, cgid, stamp, hist, records):
     """The contact of every floe in [lo, hi) with a fixed wall filling the half-space normal . x >= offset
-    (normal (3,) a unit vector into the wall): the floe's part inside the wall is the overlap; its area
-    on the wall's plane is A_c, its volume over A_c the depth. Structure records as
+    (normal (3,) a unit vector into the wall): the floe's part inside the wall is the overlap
+    (kernels/polyhedra.part_inside); its area on the wall's plane is A_c, its volume over A_c the depth. Structure records as
     ``structure_contacts`` (the load's moment about the origin). Returns (records needed, plastic)."""
     nrec = 0
     nplastic = 0
     into = -normal
     zero = np.zeros(3)
+    buf = np.empty((2, pts.shape[2] + 2, 3))
     for i in range(lo, hi):
         beyond = False
         for f in range(counts.shape[1]):
@@ -241,20 +241,8 @@ def plane_contacts(lo, hi, x, v, omega, mass, pts, counts, normal, offset, kn, c
                     beyond = True
         if not beyond:
             continue
-        side = np.zeros(counts.shape[1], np.int64)
-        sp, sc, sides = clip(pts[i], counts[i], side, into, -offset, 1)
-        vol, c = volume_centroid(sp, sc)
-        if vol <= 0.0:
-            continue
-        area = 0.0
-        for f in range(sc.shape[0]):
-            if sc[f] >= 3 and sides[f] == 1:
-                for k in range(1, sc[f] - 1):
-                    a = sp[f, k] - sp[f, 0]
-                    b = sp[f, k + 1] - sp[f, 0]
-                    cr = np.cross(a, b)
-                    area += 0.5 * math.sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2])
-        if area <= 0.0:
+        vol, c, area, _, _, _ = part_inside(pts[i], counts[i], into[0], into[1], into[2], -offset, buf)
+        if vol <= 0.0 or area <= 0.0:
             continue
         nrec, nplastic = _on_structure(i, c, into[0], into[1], into[2], area, vol / area, x, v, omega, mass, zero,
                                        zero, zero, kn, cn, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist,

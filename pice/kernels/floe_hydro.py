@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit
 
 from . import JIT
-from .polyhedra import clip, volume_centroid
+from .polyhedra import part_inside
 from .waves import sea_point
 
 
@@ -61,18 +61,23 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
     waves, ``added`` (n, 3) [kg]: each floe's added mass along x, y, z, times the waves'
     acceleration (seed 003 Eq. 11's diffraction force on a small body).
     """
-    up = np.array([0.0, 0.0, 1.0])
     total = 0.0
+    buf = np.empty((2, pts.shape[2] + 2, 3))
     for i in range(lo, hi):
-        side = np.zeros(counts.shape[1], np.int64)
         # with waves the floe floats on the surface where it is: its buoyancy is cut at level + eta there
         # (module docstring)
         eta = uw0 = uw1 = aw0 = aw1 = aw2 = 0.0
         waves = wave.shape[0] > 0
         if waves:  # the undisturbed sea at the floe's centre of mass (seed 003 Eq. 11)
             eta, uw0, uw1, aw0, aw1, aw2 = wave[i, 0], wave[i, 1], wave[i, 2], wave[i, 3], wave[i, 4], wave[i, 5]
-        sp, sc, _ = clip(pts[i], counts[i], side, up, level + eta, 1)
-        vol, cob = volume_centroid(sp, sc)
+        flow0, flow1 = current[0] + uw0, current[1] + uw1
+        u0, u1 = flow0 - v[i, 0], flow1 - v[i, 1]
+        speed = math.sqrt(u0 * u0 + u1 * u1)
+        across0, across1 = (-u1 / speed, u0 / speed) if speed > 0.0 else (0.0, 0.0)  # across the flow
+        # the submerged part (kernels/polyhedra.part_inside): volume, centre of buoyancy, its extent
+        # across the flow and its lowest point
+        vol, cob, _, wide_lo, wide_hi, zmin = part_inside(pts[i], counts[i], 0.0, 0.0, 1.0, level + eta, buf,
+                                                          across0, across1)
         force[i, 2] -= mass[i] * g
         if vol <= 0.0:
             continue
@@ -91,27 +96,15 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
             tb = -damping_ratio * 2.0 * math.sqrt(k_tilt * inertia[i, a]) * wb
             for e in range(3):
                 torque[i, e] += R[e, a] * tb
-        flow0, flow1 = current[0], current[1]
         if waves:
-            flow0 += uw0
-            flow1 += uw1
             # Froude-Krylov rho V a and the diffraction term A a (seed 003 Eq. 11, a small body)
             force[i, 0] += (rho_w * vol + added[i, 0]) * aw0
             force[i, 1] += (rho_w * vol + added[i, 1]) * aw1
             force[i, 2] += (rho_w * vol + added[i, 2]) * aw2
         # drag of the current (and the waves' particle velocity): skin on the bottom, form on the side
-        u0, u1 = flow0 - v[i, 0], flow1 - v[i, 1]
-        speed = math.sqrt(u0 * u0 + u1 * u1)
         if speed == 0.0:
             continue
-        lo, hi, zmin = math.inf, -math.inf, math.inf
-        e0, e1 = -u1 / speed, u0 / speed  # across the flow
-        for f in range(sc.shape[0]):
-            for k in range(sc[f]):
-                s = sp[f, k, 0] * e0 + sp[f, k, 1] * e1
-                lo, hi = min(lo, s), max(hi, s)
-                zmin = min(zmin, sp[f, k, 2])
-        drag = rho_w * (skin * area[i] + 0.5 * form * (level - zmin) * (hi - lo)) * speed
+        drag = rho_w * (skin * area[i] + 0.5 * form * (level - zmin) * (wide_hi - wide_lo)) * speed
         force[i, 0] += drag * u0
         force[i, 1] += drag * u1
     return total

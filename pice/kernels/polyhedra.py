@@ -405,6 +405,49 @@ def contact_geometry_planes(a_pts, a_counts, a_planes, b_pts, b_counts, b_planes
 
 
 @njit(**JIT)
+def part_inside(pts, counts, n0, n1, n2, offset, buf, e0=0.0, e1=0.0):
+    """(volume [m^3], centroid (3,) [m], area of the cut [m^2], lo, hi [m], zmin [m]) of the part of a
+    convex polyhedron with n . x <= offset (n a unit vector): its faces clipped to the half-space, and no
+    cap face built. With the tetrahedra's apex on the plane (at offset n) the cap adds no volume nor
+    moment, and its area is |the sum of the clipped faces' vector areas| (a closed surface's vector
+    areas sum to zero). lo, hi: the extent of the part's vertices along the horizontal (e0, e1), zmin
+    their lowest z (a floe's submerged part across the flow: kernels/floe_hydro.py). buf: work array
+    (2, W, 3), W >= the faces' vertices + 1. Volume 0 when nothing is inside."""
+    r0, r1, r2 = offset * n0, offset * n1, offset * n2
+    vol = c0 = c1 = c2 = s0 = s1 = s2 = 0.0
+    lo, hi, zmin = math.inf, -math.inf, math.inf
+    for f in range(counts.shape[0]):
+        if counts[f] < 3:
+            continue
+        m = _clip_face(pts[f], counts[f], n0, n1, n2, offset, buf[0])
+        if m < 3:
+            continue
+        p = buf[0]
+        for i in range(m):
+            across = p[i, 0] * e0 + p[i, 1] * e1
+            lo, hi, zmin = min(lo, across), max(hi, across), min(zmin, p[i, 2])
+        a0, a1, a2 = p[0, 0] - r0, p[0, 1] - r1, p[0, 2] - r2
+        for i in range(1, m - 1):
+            b0, b1, b2 = p[i, 0] - r0, p[i, 1] - r1, p[i, 2] - r2
+            d0, d1, d2 = p[i + 1, 0] - r0, p[i + 1, 1] - r1, p[i + 1, 2] - r2
+            v6 = a0 * (b1 * d2 - b2 * d1) - a1 * (b0 * d2 - b2 * d0) + a2 * (b0 * d1 - b1 * d0)
+            vol += v6
+            c0 += v6 * (a0 + b0 + d0)
+            c1 += v6 * (a1 + b1 + d1)
+            c2 += v6 * (a2 + b2 + d2)
+            f0, f1, f2 = b0 - a0, b1 - a1, b2 - a2
+            g0, g1, g2 = d0 - a0, d1 - a1, d2 - a2
+            s0 += 0.5 * (f1 * g2 - f2 * g1)
+            s1 += 0.5 * (f2 * g0 - f0 * g2)
+            s2 += 0.5 * (f0 * g1 - f1 * g0)
+    centre = np.full(3, np.nan)
+    if vol <= 0.0:
+        return 0.0, centre, 0.0, lo, hi, zmin
+    centre[0], centre[1], centre[2] = c0 / (4.0 * vol) + r0, c1 / (4.0 * vol) + r1, c2 / (4.0 * vol) + r2
+    return vol / 6.0, centre, math.sqrt(s0 * s0 + s1 * s1 + s2 * s2), lo, hi, zmin
+
+
+@njit(**JIT)
 def contact_geometry(a_pts, a_counts, b_pts, b_counts):
     """(overlap volume [m^3], its centroid (3,) [m], unit normal from A towards B, contact area A_c
     [m^2], depth delta = V / A_c [m]) of two convex polyhedra (module docstring); volume 0 when apart.
