@@ -32,8 +32,8 @@ def main() -> None:
                        concentration=args.concentration, seed=2017)
     floes = Floes(field.polygons, field.thickness, velocity=(0.4, 0.0, 0.0), law=FloeLaw(),
                   water=FloeWater(current=(0.4, 0.0)))
-    v, t = revolved(KULLUK, 48)
-    floes.add_structure(v, t)
+    for k in range(len(KULLUK) - 1):  # convex pieces: each ring to the next a frustum (the profile widens upwards)
+        floes.add_structure(*revolved(KULLUK[k:k + 2], 40), centre=(0.0, 0.0, 0.0))
     floes.compute_forces(args.dt)
     floes.step(args.dt)  # compile
     t0 = time.perf_counter()
@@ -45,7 +45,7 @@ def main() -> None:
     print(f"step                {args.dt} s, {args.steps} steps in {wall:.2f} s: {1e3 * wall / args.steps:.2f} ms a step, "
           f"{n * args.steps / wall:.3g} floe-steps/s")
     print(f"contacts            {floes.stats[0]} floe-floe at the end; structure load "
-          f"{floes.structure_load[0, :3].round(0).tolist()} N")
+          f"{floes.structure_load[:, :3].sum(axis=0).round(0).tolist()} N")
 
 
 if __name__ == "__main__":
