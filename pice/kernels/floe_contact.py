@@ -83,10 +83,16 @@ def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, 
     if vol <= 0.0:
         return nrec, nplastic, worst
     worst = max(worst, vol)
-    ra, rb = c - x[a], c - x[b]
-    # velocity of b's material at the contact point relative to a's
-    u = (v[b] + np.cross(omega[b], rb)) - (v[a] + np.cross(omega[a], ra))
-    un = u[0] * nrm[0] + u[1] * nrm[1] + u[2] * nrm[2]
+    n0, n1, n2 = nrm[0], nrm[1], nrm[2]
+    # lever arms from the centres to the contact point, and the velocity of b's material there
+    # relative to a's (in scalars: no temporaries)
+    ra0, ra1, ra2 = c[0] - x[a, 0], c[1] - x[a, 1], c[2] - x[a, 2]
+    rb0, rb1, rb2 = c[0] - x[b, 0], c[1] - x[b, 1], c[2] - x[b, 2]
+    wa, wb = omega[a], omega[b]
+    u0 = (v[b, 0] + (wb[1] * rb2 - wb[2] * rb1)) - (v[a, 0] + (wa[1] * ra2 - wa[2] * ra1))
+    u1 = (v[b, 1] + (wb[2] * rb0 - wb[0] * rb2)) - (v[a, 1] + (wa[2] * ra0 - wa[0] * ra2))
+    u2 = (v[b, 2] + (wb[0] * rb1 - wb[1] * rb0)) - (v[a, 2] + (wa[0] * ra1 - wa[1] * ra0))
+    un = u0 * n0 + u1 * n1 + u2 * n2
     s, found = _find_slot(cgid, stamp, a, gid[b], step)
     h0 = hist[a, s, 0] if found else 0.0
     h1 = hist[a, s, 1] if found else 0.0
@@ -95,7 +101,7 @@ def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, 
     m_eff = mass[a] * mass[b] / (mass[a] + mass[b])
     zeta = cn / (2.0 * math.sqrt(m_eff * kn)) if kn > 0.0 else 0.0
     fn, dp = plastic_normal_force(kn, zeta, m_eff, depth, dp0, un, pressure * area)
-    t0, t1, t2, _ = tangential_force(h0, h1, h2, nrm[0], nrm[1], nrm[2], u[0], u[1], u[2], un, kt, dt, mu * fn)
+    t0, t1, t2, _ = tangential_force(h0, h1, h2, n0, n1, n2, u0, u1, u2, un, kt, dt, mu * fn)
     if dp > dp0:
         nplastic += 1
     if s >= 0:
@@ -103,13 +109,13 @@ def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, 
         stamp[a, s] = step
         hist[a, s, 0], hist[a, s, 1], hist[a, s, 2], hist[a, s, 3] = t0, t1, t2, dp
     if nrec < records.shape[0]:
-        f = fn * nrm + np.array([t0, t1, t2])
-        ta, tb = np.cross(ra, f), np.cross(rb, f)
+        f0, f1, f2 = fn * n0 + t0, fn * n1 + t1, fn * n2 + t2
         r = records[nrec]
         r[0], r[1] = a, b
-        r[2], r[3], r[4] = f[0], f[1], f[2]
-        r[5], r[6], r[7] = -ta[0], -ta[1], -ta[2]
-        r[8], r[9], r[10] = tb[0], tb[1], tb[2]
+        r[2], r[3], r[4] = f0, f1, f2
+        # the torque on a is -(ra x f), on b rb x f
+        r[5], r[6], r[7] = -(ra1 * f2 - ra2 * f1), -(ra2 * f0 - ra0 * f2), -(ra0 * f1 - ra1 * f0)
+        r[8], r[9], r[10] = rb1 * f2 - rb2 * f1, rb2 * f0 - rb0 * f2, rb0 * f1 - rb1 * f0
     return nrec + 1, nplastic, worst
 
 
