@@ -67,6 +67,8 @@ def series_row(sim) -> dict[str, np.ndarray | float]:
         row["crushed_elements"] = float(sim.n_initial - sim.comm.sum(sim.p.nlocal))  # removed so far
     if sim.boundary_term is not None:  # the far field's push on the sheet [N]
         row["boundary_force"] = sim.comm.sum(sim.boundary_term.force)
+        if sim.boundary_term.far_mass is not None:  # a finite far field's speed [m/s]
+            row["far_field_speed"] = float(sim.boundary_term.velocity[0])
     if sim.platform is not None:
         from .platform.output import series_entries
 

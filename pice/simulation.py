@@ -152,7 +152,7 @@ class Simulation:
         push = job.ice.push if self.has_sheet else None
         self.boundary_term = None
         if push is not None and push.stiffness is not None:
-            self.boundary_term = SpringBoundaryTerm(speed=push.speed, damping_ratio=push.damping_ratio)
+            self.boundary_term = SpringBoundaryTerm.of_ice(job.ice, comm=self.comm)
             terms.append(self.boundary_term)
         if self.hull_term is not None and self.has_sheet:
             terms.append(self.hull_term)

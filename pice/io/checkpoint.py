@@ -13,6 +13,7 @@ Layout::
     /walls/total     (n_walls, 6) the reduced ice loads of the last step (when the job has walls)
     /platform/       rank 0's bodies (body<k>/x, v, q, L, force, torque), mooring lines
                      (group<k>/...), the ice loads of the last step and the bodies' clock
+    /far_field/      shift, velocity of a finite far field (ice.push.far_field_length)
 
 Rank 0 writes ``path + ".tmp"``, flushes and fsyncs it, then renames it over ``path``: a run killed
 at any moment leaves either the previous checkpoint or the new one, never a broken file.
@@ -166,6 +167,9 @@ def _write_file(sim, tmp: pathlib.Path, gid, order, parts, counters, events, flo
                 f[f"platform/{name}"] = np.asarray(value)
         for name, value in (floes or {}).items():  # every floe: state and contact histories
             f[f"floes/{name}"] = np.asarray(value)
+        if sim.boundary_term is not None:  # a finite far field's shift and speed (the same on every rank)
+            for name, value in sim.boundary_term.state().items():
+                f[f"far_field/{name}"] = np.asarray(value)
         f.flush()
     fd = os.open(tmp, os.O_RDONLY)
     try:
@@ -230,7 +234,8 @@ def read_checkpoint(path) -> dict:
                 events={n: f["events"][n][()] for n in EVENT_FIELDS},
                 wall_total=f["walls/total"][()] if "walls/total" in f else None,
                 platform=_platform_state(f),
-                floes={k: v[()] for k, v in f["floes"].items()} if "floes" in f else None)
+                floes={k: v[()] for k, v in f["floes"].items()} if "floes" in f else None,
+                far_field={k: v[()] for k, v in f["far_field"].items()} if "far_field" in f else None)
     except CheckpointError:
         raise
     except (OSError, KeyError) as exc:

@@ -66,6 +66,12 @@ def restore(sim, data) -> None:
         if state is None:
             raise CheckpointError(f"{where}: holds no floes, but {job.source} has [floes]")
         sim.floes.set_state(state, where)
+    term = sim.boundary_term
+    if term is not None and term.far_mass is not None:  # the finite far field's shift and speed
+        state = comm.bcast(data.get("far_field") if comm.rank == 0 else None)
+        if state is None:
+            raise CheckpointError(f"{where}: holds no far field, but {job.source} gives ice.push.far_field_length")
+        term.set_state(state)
 
 
 def _refuse_mismatch(sim, a, where, gid) -> None:

@@ -61,13 +61,24 @@ class WaterSpec(Section):
 class PushSpec(Section):
     """[ice.push]: the rear edge of the sheet driven at a constant speed along +x: rigidly (its
     velocity prescribed), or through springs of ``stiffness`` per element to anchors moving at
-    ``speed`` (a spring boundary standing for the far-field ice)."""
+    ``speed`` (a spring boundary standing for the far-field ice). With ``far_field_length`` the
+    anchors are the ice of that length behind the sheet (its width and thickness), a free mass that
+    starts at ``speed`` and is slowed by its push on the sheet: a finite ice field, as seed 004's
+    level ice of 5050 m in all (Table 6-3); without it the far field is unbounded."""
 
     speed: quantity("m/s", gt=None) = 0.05
     rows: count(1) = 1
     stiffness: Optional[quantity("N/m")] = None
     side_stiffness: Optional[quantity("N/m")] = None  # with stiffness: the side edges held in y by springs
     damping_ratio: quantity("", gt=None, ge=0.0, le=1.0) = 1.0
+    far_field_length: Optional[quantity("m")] = None  # with stiffness: the far field a free mass of this length
+
+    @model_validator(mode="after")
+    def _far_field(self):
+        if self.far_field_length is not None and self.stiffness is None:
+            raise ValueError("far_field_length: the far field moves the anchors of the spring boundary: give "
+                             "stiffness as well, or drop far_field_length")
+        return self
 
 
 class IceSpec(Section):

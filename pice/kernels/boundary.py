@@ -8,13 +8,14 @@ from . import JIT
 
 
 @njit(**JIT)
-def spring_boundary(nlocal, x, v, mass, anchor, stiffness, damping_ratio, velocity, time, force):
-    """F_d = -k_d (x_d - (a_d + u_d t)) - 2 zeta sqrt(m k_d) (v_d - u_d) on every owned element, in each
+def spring_boundary(nlocal, x, v, mass, anchor, stiffness, damping_ratio, velocity, shift, force):
+    """F_d = -k_d (x_d - (a_d + s_d)) - 2 zeta sqrt(m k_d) (v_d - u_d) on every owned element, in each
     direction d with k_d > 0.
 
     anchor (n,3): the element's position at t = 0 [m]; stiffness (n,3) [N/m] per direction (0: free);
-    velocity (3,): the anchors' velocity u [m/s]; time [s]. Returns the total force on the
-    tied elements [N] (x component), the far field's push on the sheet.
+    velocity (3,): the anchors' velocity u [m/s]; shift (3,): how far they have moved since t = 0 [m]
+    (u t for a far field at constant speed). Returns the total force on the tied elements [N] (x
+    component), the far field's push on the sheet.
     """
     total = 0.0
     for i in range(nlocal):
@@ -23,7 +24,7 @@ def spring_boundary(nlocal, x, v, mass, anchor, stiffness, damping_ratio, veloci
             if k <= 0.0:
                 continue
             c = 2.0 * damping_ratio * math.sqrt(mass[i] * k)
-            f = -k * (x[i, d] - anchor[i, d] - velocity[d] * time) - c * (v[i, d] - velocity[d])
+            f = -k * (x[i, d] - anchor[i, d] - shift[d]) - c * (v[i, d] - velocity[d])
             force[i, d] += f
             if d == 0:
                 total += f

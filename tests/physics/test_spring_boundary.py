@@ -6,6 +6,7 @@ carry F: the boundary force equals F and every tied element lags its anchor by F
 """
 
 import numpy as np
+import pytest
 from scenes import job_from_text
 
 from pice.simulation import Simulation
@@ -64,3 +65,49 @@ def test_side_springs_hold_the_sheet_in_y():
     dy = sim.p.x[:, 1] - sim.p.anchor[:, 1]
     np.testing.assert_allclose((k[:, 1] * dy).sum(), 2.0e4, rtol=1e-3)
     assert (k[side, 1] * dy[side]).sum() > 0.1 * 2.0e4
+
+
+FINITE = JOB.replace("damping_ratio = 1.0\n[bond]", "damping_ratio = 1.0\nfar_field_length = 100.0\n[bond]")
+
+
+def test_a_finite_far_field_conserves_momentum_with_the_sheet():
+    """ice.push.far_field_length: the anchors are a free mass M = rho_i h W L (920 x 1 x 4 x 100 m =
+    368 t) starting at the push speed, slowed by the sheet it pushes. With the load F the only force
+    from outside (no gravity, no water), the momentum of far field and sheet changes by F t (Newton).
+    The far field's speed is known at the half steps (leapfrog), the sheet's at the steps: the bound
+    is the far field's push over one step, |F_b| dt, and round-off."""
+    sim = Simulation(job_from_text(FINITE, source="finite.toml"))
+    term = sim.boundary_term
+    assert term.far_mass == 920.0 * 1.0 * 4.0 * 100.0
+    p0 = term.far_mass * 0.5 + float((sim.p.mass[:sim.p.nlocal] * sim.p.v[:sim.p.nlocal, 0]).sum())
+    n = int(round(1.5 / sim.dt))
+    sim.advance(n)
+    row = sim.series_row()
+    p1 = term.far_mass * term.velocity[0] + float((sim.p.mass[:sim.p.nlocal] * sim.p.v[:sim.p.nlocal, 0]).sum())
+    assert p1 - p0 == pytest.approx(-3.0e4 * n * sim.dt, abs=abs(row["boundary_force"]) * sim.dt + 1e-6 * p0)
+    assert row["far_field_speed"] == term.velocity[0] < 0.5  # slowed, and in the series
+
+
+def test_a_finite_far_field_restarts_exactly(tmp_path):
+    """Its shift and speed are in the checkpoint: a run continued from a checkpoint joins the one that
+    went on, bit for bit (one rank)."""
+    from pice.io.checkpoint import read_checkpoint, write_checkpoint
+
+    job = job_from_text(FINITE, source="finite.toml")
+    sim = Simulation(job)
+    sim.advance(500)
+    sim.rebuild_for_checkpoint()
+    path = write_checkpoint(sim, tmp_path / "ff.ckpt.h5")
+    again = Simulation.from_checkpoint(job, read_checkpoint(path))
+    sim.advance(500)
+    again.advance(500)
+    assert again.boundary_term.velocity[0] == sim.boundary_term.velocity[0] < 0.5
+    assert np.array_equal(again.p.x[:again.p.nlocal], sim.p.x[:sim.p.nlocal])
+
+
+def test_far_field_length_needs_the_springs():
+    from pice.errors import JobError
+
+    text = FINITE.replace("stiffness = 2.0e6\n", "")
+    with pytest.raises(JobError, match="ice.push.far_field_length = 100.0: the far field moves the anchors"):
+        job_from_text(text, source="nostiff.toml")
