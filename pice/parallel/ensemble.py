@@ -13,6 +13,8 @@ call, and without it the other groups would wait for rank 0's whole variant (see
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from .comm import MPIComm, SerialComm
@@ -30,6 +32,20 @@ def split(comm, group_size: int):
     raw = comm.comm.Split(colour, comm.rank)
     group = SerialComm() if group_size == 1 else MPIComm(raw)
     return group, colour, comm.size // group_size
+
+
+def wait_for_all(comm, serve=None, pause: float = 0.05) -> None:
+    """Return when every rank of ``comm`` has called this, sleeping ``pause`` [s] between tests: MPICH
+    spins in a blocking collective, and a group that ran out of variants would keep its core busy
+    while the others finish (seen on 2 ranks: the idle rank at 65 % of a core). ``serve``: called
+    between tests (rank 0's queue)."""
+    if comm.size == 1:
+        return
+    request = comm.comm.Ibarrier()
+    while not request.Test():
+        if serve is not None:
+            serve()
+        time.sleep(pause)
 
 
 class WorkQueue:

@@ -13,14 +13,15 @@ from __future__ import annotations
 import json
 import math
 import pathlib
+import signal
 import sys
 import time
 
-from ..errors import JobError, PiceError
+from ..errors import JobError, PiceError, RunInterrupted
 from ..io.checkpoint import CheckpointError
 from ..io.errors import OutputError
 from ..parallel.comm import on_root, world
-from ..parallel.ensemble import WorkQueue, split
+from ..parallel.ensemble import WorkQueue, split, wait_for_all
 from .criteria import judge, parse_criterion
 from .metrics import METRICS, compare, run_metrics
 from .report import write_report
@@ -118,7 +119,13 @@ def run_study(job_path, specs: list, *, out_dir=None, reference: int | None = No
         order = sorted(todo, key=lambda v: (-cost.get(v.index, 0), v.index))
         mine = _run_from_queue(order, refused, run_job, out_dir=out_dir, comm=comm, group=group, colour=colour,
                                progress=progress if group.rank == 0 else None, count=variants[0].total)
-    gathered = comm.gather(mine)
+    mine, stopped = mine if ngroups > 1 else (mine, None)
+    gathered = comm.gather((mine, stopped))
+    why = comm.bcast(next((s for _, s in gathered if s), None) if comm.rank == 0 else None)
+    if why is not None:  # a stop was asked for: the unfinished variants kept their checkpoints
+        raise RunInterrupted(f"study stopped ({why.splitlines()[0]}); the same command continues each unfinished "
+                             "variant from its checkpoint")
+    gathered = [part for part, _ in gathered] if comm.rank == 0 else None
     elapsed = time.perf_counter() - start
     rows = []
     if comm.rank == 0:
@@ -168,27 +175,66 @@ def _run_in_turn(todo, refused, run_job, *, out_dir, comm, progress, count) -> l
     return rows if comm.rank == 0 else []
 
 
-def _run_from_queue(order, refused, run_job, *, out_dir, comm, group, colour, progress, count) -> list[dict]:
+def _run_from_queue(order, refused, run_job, *, out_dir, comm, group, colour, progress, count):
     """Each group takes the next variant of ``order`` from rank 0's queue until none is left; its
-    leader records the outcome and keeps the row."""
+    leader records the outcome and keeps the row. Returns (rows, why the study was stopped or None).
+
+    SIGINT/SIGTERM: a running variant writes its checkpoint and stops (run_job), and its group takes
+    no other; a rank between variants takes no other either (this function's handler, which a run
+    replaces while it runs). Every rank then waits for the others without spinning, so that the
+    ranks still writing their checkpoints are not killed by an idle rank's exit."""
     queue = WorkQueue(comm)
-    rows = []
-    while True:
-        k = group.bcast(queue.take() if group.rank == 0 else None)
-        if k >= len(order):
-            break
-        v = order[k]
-        row = _run_variant(v, refused.get(v.index), run_job, out_dir=out_dir, progress=progress, comm=group,
-                           count=count, label=f"group {colour}: ", poll=queue.serve)
-        row["group"] = colour
-        if group.rank == 0:
+    rows, stopped = [], None
+    stop = _Stop().install()
+    try:
+        while not group.max(1.0 if stop.flag else 0.0):
+            k = group.bcast(queue.take() if group.rank == 0 else None)
+            if k >= len(order):
+                break
+            v = order[k]
             try:
-                _record(v).write_text(json.dumps(row), encoding="utf-8")
-            except OSError as exc:  # the study goes on; only its restart would run this variant again
-                print(f"pice study: cannot record variant {v.index} ({exc.strerror or exc})", file=sys.stderr)
-            rows.append(row)
+                row = _run_variant(v, refused.get(v.index), run_job, out_dir=out_dir, progress=progress, comm=group,
+                                   count=count, label=f"group {colour}: ", poll=queue.serve)
+            except RunInterrupted as exc:
+                stopped = str(exc)
+                break
+            row["group"] = colour
+            if group.rank == 0:
+                try:
+                    _record(v).write_text(json.dumps(row), encoding="utf-8")
+                except OSError as exc:  # the study goes on; only its restart would run this variant again
+                    print(f"pice study: cannot record variant {v.index} ({exc.strerror or exc})", file=sys.stderr)
+                rows.append(row)
+        if stop.flag and stopped is None:
+            stopped = "SIGINT/SIGTERM between variants"
+        wait_for_all(comm, queue.serve)
+    finally:
+        stop.restore()
     queue.free()
-    return rows
+    return rows, stopped
+
+
+class _Stop:
+    """A rank between variants of a grouped study: SIGINT/SIGTERM set a flag instead of killing it."""
+
+    def __init__(self):
+        self.flag, self.previous = False, {}
+
+    def install(self) -> "_Stop":
+        try:
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                self.previous[sig] = signal.signal(sig, self._handler)
+        except ValueError:  # not the main thread: no handler
+            self.previous.clear()
+        return self
+
+    def _handler(self, signum, frame):
+        self.flag = True
+
+    def restore(self) -> None:
+        for sig, handler in self.previous.items():
+            signal.signal(sig, handler)
+        self.previous = {}
 
 
 def _checkpoint_of(v: Variant) -> str | None:
@@ -230,6 +276,8 @@ def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress,
         if resume is None:
             summary = run_job(v.job, output=str(v.run), overwrite=True, base_dir=out_dir, progress=progress,
                               comm=comm, poll=poll)
+    except RunInterrupted:  # asked to stop: not an outcome (the variant continues from its checkpoint)
+        raise
     except (PiceError, FloatingPointError) as exc:  # every rank raises it (the checks are collective)
         row["error"] = str(exc).splitlines()[0]
         row["busy_time"] = time.perf_counter() - began
