@@ -2,7 +2,7 @@
 overlap of two polyhedra; numba, arrays in and out, no MPI).
 
 For each pair (a, b), a the lower gid, whose bounding spheres meet, the overlap of their world
-polyhedra (kernels/polyhedra.contact_geometry_planes, with the face planes computed once a step) gives the normal n (from a towards b), the contact
+polyhedra (kernels/polyhedron_contact.contact_geometry_planes, with the face planes computed once a step) gives the normal n (from a towards b), the contact
 area A_c and the depth delta = V / A_c, at the overlap's centroid. The law is the one of every
 contact in pice (kernels/contact_law.py): F_n = k_n (delta - delta_p) - c_n u_n, 0 <= F_n <= sigma_c A_c
 (the excess becomes plastic penetration delta_p), and a tangential spring capped at mu F_n. The
@@ -33,7 +33,8 @@ from numba import njit
 from . import JIT
 from .contact_law import plastic_normal_force, tangential_force
 from .contacts import _find_slot, build_cell_list, cell_neighbourhood
-from .polyhedra import contact_geometry, contact_geometry_planes, face_planes, part_inside, separated_by_planes
+from .polyhedra import face_planes, separated_by_planes
+from .polyhedron_contact import contact_geometry, contact_geometry_planes, part_inside
 
 PAIR_RECORD = 11
 STRUCTURE_RECORD = 13
@@ -231,7 +232,7 @@ def plane_contacts(lo, hi, x, v, omega, mass, pts, counts, normal, offset, kn, c
                    slot_gid, cgid, stamp, hist, records):
     """The contact of every floe in [lo, hi) with a fixed wall filling the half-space normal . x >= offset
     (normal (3,) a unit vector into the wall): the floe's part inside the wall is the overlap
-    (kernels/polyhedra.part_inside); its area on the wall's plane is A_c, its volume over A_c the depth. Structure records as
+    (kernels/polyhedron_contact.part_inside); its area on the wall's plane is A_c, its volume over A_c the depth. Structure records as
     ``structure_contacts`` (the load's moment about the origin). Returns (records needed, plastic)."""
     nrec = 0
     nplastic = 0

@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit
 
 from . import JIT
-from .polyhedra import part_inside
+from .polyhedron_contact import part_inside
 from .waves import sea_point
 
 
@@ -74,7 +74,7 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
         u0, u1 = flow0 - v[i, 0], flow1 - v[i, 1]
         speed = math.sqrt(u0 * u0 + u1 * u1)
         across0, across1 = (-u1 / speed, u0 / speed) if speed > 0.0 else (0.0, 0.0)  # across the flow
-        # the submerged part (kernels/polyhedra.part_inside): volume, centre of buoyancy, its extent
+        # the submerged part (kernels/polyhedron_contact.part_inside): volume, centre of buoyancy, its extent
         # across the flow and its lowest point
         vol, cob, _, wide_lo, wide_hi, zmin = part_inside(pts[i], counts[i], 0.0, 0.0, 1.0, level + eta, buf,
                                                           across0, across1)

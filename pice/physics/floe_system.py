@@ -31,7 +31,7 @@ import numpy as np
 from ..errors import JobError
 from ..kernels.floe_contact import PAIR_RECORD, STRUCTURE_RECORD, apply_pair_records, apply_structure_records
 from ..kernels.floe_motion import turn_all
-from ..kernels.polyhedra import contact_geometry
+from ..kernels.polyhedron_contact import contact_geometry
 from .floes import FloeLaw, Floes, FloeWater, contact_step_limit
 from .timestep import StepLimit
 

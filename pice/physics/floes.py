@@ -303,7 +303,7 @@ def contact_step_limit(law: FloeLaw, m_eff: float) -> float:
 
 def _require_convex(faces: np.ndarray, vertices: np.ndarray) -> None:
     """ValueError unless every vertex lies inside every face's plane (to 1e-5 of the body's size): the
-    contact geometry (kernels/polyhedra.py) is that of convex bodies only."""
+    contact geometry (kernels/polyhedron_contact.py) is that of convex bodies only."""
     a, b, c = faces[:, 0], faces[:, 1], faces[:, 2]
     n = np.cross(b - a, c - a)
     size = np.linalg.norm(n, axis=1)

@@ -1,4 +1,5 @@
-"""Convex polyhedra overlap and contact geometry (pice/kernels/polyhedra.py), for rigid floes and blocks.
+"""Convex polyhedra: their overlap (pice/kernels/polyhedra.py) and contact geometry
+(pice/kernels/polyhedron_contact.py), for rigid floes and blocks.
 
 References: the intersection of axis-aligned boxes (exact: a box); the overlap volume of rotated
 prisms against a Monte Carlo estimate (200,000 points, compared within 4 standard errors); the
@@ -14,7 +15,8 @@ import math
 import numpy as np
 import pytest
 
-from pice.kernels.polyhedra import contact_geometry, overlap, prism, volume_centroid
+from pice.kernels.polyhedra import overlap, prism, volume_centroid
+from pice.kernels.polyhedron_contact import contact_geometry
 
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
 
@@ -130,7 +132,7 @@ def test_face_clipping_gives_the_overlap_polyhedron_to_round_off():
     same volume, centroid, normal and area to 1e-9 over 300 random pairs of turned blocks and 100
     of turned hexagonal floes, about 85 % of them overlapping (the two are the same sums over the
     same surface; 1e-9 leaves room for the round-off of the cuts' points)."""
-    from pice.kernels.polyhedra import contact_geometry_clipped
+    from pice.kernels.polyhedron_contact import contact_geometry_clipped
 
     rng = np.random.default_rng(7)
     pairs = [(_random_box(rng, 0.0), _random_box(rng, 0.35)) for _ in range(300)]
@@ -154,7 +156,8 @@ def test_the_part_in_a_half_space_without_its_cap():
     (the cap built): the same volume, centroid and cut area to 1e-9, over 200 turned blocks cut by
     random planes through them; and a unit cube cut at z = 0.3 exactly (volume 0.3, centroid z 0.15,
     cut area 1, extent across y 1, lowest point 0)."""
-    from pice.kernels.polyhedra import clip, part_inside
+    from pice.kernels.polyhedra import clip
+    from pice.kernels.polyhedron_contact import part_inside
 
     buf = np.empty((2, 64, 3))
     cube = prism(SQUARE, 0.0, 1.0)
