@@ -113,8 +113,12 @@ def run_study(job_path, specs: list, *, out_dir=None, reference: int | None = No
                       file=progress, flush=True)
     start = time.perf_counter()
     if ngroups == 1:
-        mine = _run_in_turn(todo, refused, run_job, out_dir=out_dir, comm=comm,
-                            progress=progress if comm.rank == 0 else None, count=variants[0].total)
+        try:
+            mine = _run_in_turn(todo, refused, run_job, out_dir=out_dir, comm=comm,
+                                progress=progress if comm.rank == 0 else None, count=variants[0].total)
+        except RunInterrupted as exc:  # the study's own command continues it, not the run's
+            raise RunInterrupted(f"study stopped ({str(exc).split('; ')[0]}); the same command continues each "
+                                 "unfinished variant from its checkpoint") from None
     else:
         order = sorted(todo, key=lambda v: (-cost.get(v.index, 0), v.index))
         mine = _run_from_queue(order, refused, run_job, out_dir=out_dir, comm=comm, group=group, colour=colour,

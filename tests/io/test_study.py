@@ -382,3 +382,27 @@ def test_group_size_that_does_not_divide_the_ranks_is_refused(tmp_path, capsys, 
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and f"--group-size {size}" in err[0], err
     assert not out.exists()
+
+
+def test_a_stopped_variant_stops_the_study_and_is_not_recorded(tmp_path, capsys, monkeypatch):
+    """SIGINT/SIGTERM during a variant (run_job raises RunInterrupted after its checkpoint): the study
+    exits with status 130, says that the same command continues it, and records no outcome for that
+    variant (a recorded one would never be run again); the variant before it keeps its outcome."""
+    import pice.runner
+    from pice.errors import RunInterrupted
+
+    real = pice.runner.run_job
+
+    def stop_second(job, **kwargs):
+        if kwargs["output"].endswith("tiny_1.h5"):
+            raise RunInterrupted("interrupted at step 3 (t = 0.0006 s); checkpoint written to x; continue with: "
+                                 "pice run x --restart y")
+        return real(job, **kwargs)
+
+    monkeypatch.setattr(pice.runner, "run_job", stop_second)
+    job = write(tmp_path, WALL_JOB)
+    out = tmp_path / "study"
+    assert main(["study", str(job), "--vary", "run.dt=2e-4,4e-4", "--out", str(out)]) == 130
+    err = capsys.readouterr().err
+    assert "study stopped (interrupted at step 3" in err and "the same command continues" in err, err
+    assert (out / "tiny_0.outcome.json").exists() and not (out / "tiny_1.outcome.json").exists()
