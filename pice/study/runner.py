@@ -257,7 +257,7 @@ def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress,
                wall_time=0.0, steps=0, elements=0, particle_steps=0, particle_steps_per_second=0.0, ranks=comm.size)
     if progress is not None:
         print(f"pice study: {label}variant {v.index} of 0..{count - 1}: "
-              + ", ".join(f"{k} = {show_value(x)}" for k, x in v.values.items()) + f" -> {v.run}"
+              + ", ".join(f"{k} = {show_value(v.values[k])}" for k in (v.shown or v.values)) + f" -> {v.run}"
               + (f": refused at set-up: {refused}" if refused else ""), file=progress, flush=True)
     if refused:
         return row

@@ -51,6 +51,7 @@ class Variant:
     run: pathlib.Path
     label: str  # "x.toml with run.dt = 0.0001": the source named by its error messages
     total: int = 1  # the number of combinations of the study (variants left out by ``keep`` included)
+    shown: tuple = ()  # the keys its progress line names: those given more than one value (else all)
 
 
 def key_path(key: str) -> tuple:
@@ -181,6 +182,7 @@ def make_variants(job_path, specs: list, *, out_dir, keep=None) -> list[Variant]
     data0 = tomllib.loads(base.text)
     varies = [s if isinstance(s, Vary) else parse_vary(s) for s in specs]
     total = math.prod(len(v.values) for v in varies)
+    shown = tuple(v.key for v in varies if len(v.values) > 1) or tuple(v.key for v in varies)
     seen = set()
     for v in varies:
         if v.key in seen:
@@ -203,7 +205,8 @@ def make_variants(job_path, specs: list, *, out_dir, keep=None) -> list[Variant]
                          + f"\nrun it again: pice run {toml} --overwrite")
         job = parse_job(tomllib.loads(text), source=label, text=text, base_dir=job_path.parent)
         variants.append(Variant(index=k, values=values, job=job.model_copy(update={"source": str(toml)}),
-                                text=text, toml=toml, run=run, label=label, total=total))
+                                text=text, toml=toml, run=run, label=label, total=total,
+                                shown=shown))
     return variants
 
 
