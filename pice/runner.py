@@ -180,7 +180,7 @@ def make_keel(job, *, output=None, base_dir=None, progress="stderr", comm=None) 
     0; ``output``, default keel.file or <job>.keel.h5 beside the job) and return a summary. progress:
     a stream for the settling's progress lines, "stderr" (sys.stderr at the call) or None."""
     progress = sys.stderr if progress == "stderr" else progress
-    from .io.keel_file import keel_path, write_keel
+    from .io.keel_file import generation_path, keel_path, read_generation, write_generation, write_keel
     from .parallel.comm import on_root, world
     from .physics.keel import generate_keel
 
@@ -196,8 +196,14 @@ def make_keel(job, *, output=None, base_dir=None, progress="stderr", comm=None) 
             print(f"pice keel: t = {t:.4g} s, RMS speed {rms:.3g} m/s, {contacts:,} block contacts", file=progress,
                   flush=True)
 
-    keel = generate_keel(job, comm, progress=report)
+    gen = generation_path(path)  # a killed or unsettled generation is continued from it
+    resume = comm.bcast(read_generation(gen, job.keel) if comm.rank == 0 else None)
+    if resume is not None and loud:
+        print(f"pice keel: continuing the generation from t = {resume[0]:.4g} s ({gen})", file=progress, flush=True)
+    keel = generate_keel(job, comm, progress=report, resume=resume,
+                         save=lambda t, state: on_root(comm, lambda: write_generation(gen, job.keel, t, state)))
     on_root(comm, lambda: write_keel(path, job.keel, keel))
+    on_root(comm, lambda: gen.unlink(missing_ok=True))
     took = wall.perf_counter() - t0
     line = (f"pice keel: {path}: {len(keel.x):,} of {keel.released:,} blocks in the keel, settled in "
             f"{keel.settle_time:.4g} s (RMS {keel.rms_speed:.2g} m/s); porosity {keel.porosity:.3f} (core "

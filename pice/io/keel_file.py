@@ -6,6 +6,13 @@ centre, ``q`` (n, 4) its attitude; attributes: the [keel] it was generated from 
 ``keel``), the porosity of the keel and of its core, the time it took to settle [s], the RMS speed
 then [m/s], the number released, and ``format``. Written to a temporary name and renamed, so a
 killed generation leaves no half file.
+
+The generation checkpoint (``generation_path``: the keel file's name + ".gen.h5"): the settling
+blocks' state (physics/floe_system.FloeSystem.state) and the time reached, written at every check of
+their speed, so that `pice keel` continues a killed generation, or one that had not settled in
+keel.settle_time, where it stopped. It is kept for the same [keel] only (keel.settle_time and
+keel.settle_speed may change: they decide when to stop, not how the blocks move), and removed once
+the keel file is written.
 """
 
 from __future__ import annotations
@@ -79,3 +86,49 @@ def read_keel(path, keel, source: str) -> dict:
                contact=json.loads(attrs["contact"]))
     out["rects"], out["x"], out["q"] = (np.asarray(out[k], float) for k in ("rects", "x", "q"))
     return out
+
+
+# keys of [keel] that decide when the settling stops, not how the blocks move: a generation checkpoint
+# written under other values is continued
+_STOP_KEYS = ("settle_time", "settle_speed")
+
+
+def generation_path(path) -> pathlib.Path:
+    """The generation checkpoint beside the keel file ``path``."""
+    path = pathlib.Path(path)
+    return path.with_name(path.name + ".gen.h5")
+
+
+def _settling_keys(keel) -> str:
+    return json.dumps({k: v for k, v in _generation_keys(keel).items() if k not in _STOP_KEYS}, sort_keys=True)
+
+
+def write_generation(path, keel, t: float, state: dict) -> None:
+    """The settling blocks' ``state`` at time ``t`` [s] to the generation checkpoint ``path`` (atomic)."""
+    import h5py
+
+    path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    with h5py.File(tmp, "w") as f:
+        for name, value in state.items():
+            f[name] = np.asarray(value)
+        f.attrs.update(format=KEEL_FORMAT, keel=_settling_keys(keel), time=float(t))
+    os.replace(tmp, path)
+
+
+def read_generation(path, keel):
+    """(t [s], state) of the generation checkpoint at ``path`` when it was written for this [keel], else
+    None (no file, another keel, or not readable: the generation starts afresh)."""
+    import h5py
+
+    path = pathlib.Path(path)
+    if not path.exists():
+        return None
+    try:
+        with h5py.File(path, "r") as f:
+            if f.attrs.get("keel") != _settling_keys(keel) or int(f.attrs.get("format", 0)) != KEEL_FORMAT:
+                return None
+            return float(f.attrs["time"]), {k: f[k][()] for k in f.keys()}
+    except (OSError, KeyError):
+        return None

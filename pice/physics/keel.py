@@ -96,8 +96,13 @@ def keel_step(keel, floes: Floes) -> float:
     return min(0.5 * stable, accurate)
 
 
-def generate_keel(job, comm, *, progress=None) -> Keel:
-    """Release, settle and trim the job's keel on the ranks of ``comm`` (module docstring)."""
+def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
+    """Release, settle and trim the job's keel on the ranks of ``comm`` (module docstring).
+
+    ``resume``: (t [s], FloeSystem.state()) of an unfinished generation of the same keel, to continue
+    from (the same bits as a generation never stopped); ``save``: called with (t, state) at every
+    check of the speed (collective: the state gathers the contact histories), so that a killed or
+    unsettled generation can be continued (io/keel_file.py's generation checkpoint)."""
     keel = job.keel
     rects, x, q = release_blocks(keel)
     floes = blocks_as_floes(keel, rects, x, q, keel_law(keel), keel_water(job))
@@ -106,8 +111,12 @@ def generate_keel(job, comm, *, progress=None) -> Keel:
     dt = keel_step(keel, floes)
     every = max(1, int(round(SETTLE_CHECK / dt)))
     none = np.zeros((0, 13))
-    system.compute_forces(none, 0.0, dt)
     t, rms = 0.0, math.inf
+    if resume is not None:
+        t = float(resume[0])
+        system.set_state(resume[1], f"{job.source}: the keel's generation checkpoint")
+    else:
+        system.compute_forces(none, 0.0, dt)
     while t < keel.settle_time:
         for _ in range(every):
             system.kick(0.5 * dt)
@@ -116,6 +125,8 @@ def generate_keel(job, comm, *, progress=None) -> Keel:
             system.compute_forces(none, t, dt)
             system.kick(0.5 * dt)
         rms = math.sqrt(float((floes.v ** 2).sum(axis=1).mean()))
+        if save is not None:
+            save(t, system.state())
         if progress is not None:
             progress(t, rms, system.contacts)
         if rms < keel.settle_speed:

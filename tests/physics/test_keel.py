@@ -114,3 +114,25 @@ def test_the_running_average_of_a_linear_record():
     np.testing.assert_allclose(avg[full], delta[full] - 3.0 + h / 2, atol=1e-9)
     peak, where = peak_resistance(delta, delta)
     assert where == pytest.approx(20.0) and peak == pytest.approx(17.0 + h / 2)
+
+
+def test_an_unsettled_generation_is_continued_where_it_stopped(micro, tmp_path, capsys):
+    """`pice keel` with a keel.settle_time too short to settle is refused (exit 2), and leaves its
+    generation checkpoint (io/keel_file.py); the same job with the default settle_time continues from
+    it and writes, bit for bit, the keel of a generation never stopped (the micro fixture's, the same
+    seed), then removes the checkpoint."""
+    folder, _ = micro
+    job = tmp_path / "micro.toml"
+    job.write_text(KEEL.format(duration=2.0, seed=1).replace("file = ", "settle_time = 1.0\nfile = "))
+    assert main(["keel", str(job)]) == 2
+    assert "keel.settle_time = 1: the blocks still move" in capsys.readouterr().err
+    gen = tmp_path / "micro.keel.h5.gen.h5"
+    assert gen.exists() and not (tmp_path / "micro.keel.h5").exists()
+    job.write_text(KEEL.format(duration=2.0, seed=1))
+    assert main(["keel", str(job)]) == 0
+    assert "continuing the generation from t = 1" in capsys.readouterr().err
+    assert not gen.exists()
+    with h5py.File(tmp_path / "micro.keel.h5") as f, h5py.File(folder / "micro.keel.h5") as g:
+        for key in ("x", "q", "rects"):
+            assert np.array_equal(f[key][()], g[key][()]), key
+        assert f.attrs["settle_time"] == g.attrs["settle_time"]
