@@ -20,7 +20,8 @@ import numpy as np
 from pice.job import load_job
 from pice.parallel.comm import SerialComm
 from pice.physics.floe_system import FloeSystem
-from pice.physics.keel import blocks_as_floes, keel_law, keel_step, keel_walls, keel_water, release_blocks
+from pice.physics.keel import (blocks_as_floes, keel_law, keel_step, keel_walls, keel_water, release_blocks,
+                               settle_steps)
 
 JOB = pathlib.Path(__file__).resolve().parents[1] / "jobs" / "gong_2017_keel_w17_3.toml"
 
@@ -41,21 +42,10 @@ def main() -> None:
     keel_walls(floes, keel, generation=True)
     system = FloeSystem(floes, SerialComm(), [])
     dt = keel_step(keel, floes)
-    none = np.zeros((0, 13))
-
-    def steps(n, t):
-        for _ in range(n):
-            system.kick(0.5 * dt)
-            system.drift(dt)
-            t += dt
-            system.compute_forces(none, t, dt)
-            system.kick(0.5 * dt)
-        return t
-
-    system.compute_forces(none, 0.0, dt)
-    t = steps(int(round(args.warm / dt)), 0.0)
+    system.compute_forces(np.zeros((0, 13)), 0.0, dt)
+    t = settle_steps(system, int(round(args.warm / dt)), 0.0, dt)
     t0 = time.perf_counter()
-    steps(args.steps, t)
+    settle_steps(system, args.steps, t, dt)
     wall = (time.perf_counter() - t0) / args.steps
     contacts = system.contacts
     print(f"blocks              {len(floes.mass)} (keel {args.width:g} m x {args.length:g} m x {args.depth:g} m)")

@@ -214,6 +214,31 @@ def overlap(a_pts, a_counts, b_pts, b_counts):
 
 
 @njit(**JIT)
+def fan_sums(p, m, r0, r1, r2):
+    """The convex polygon p[:m] fanned from p[0] into triangles, each the base of a tetrahedron with
+    apex (r0, r1, r2): (sum of 6 x their signed volumes [m^3], sum of 6 V x (the tetrahedra's four
+    vertices' sum less 4 apex) (3) [m^4], the polygon's vector area (3) [m^2]). Over a closed outward
+    surface the first is 6 V, the next give the centroid (/ 4 / 6 V + apex), the area sums to zero.
+    Scalars only: no temporaries."""
+    vol = c0 = c1 = c2 = s0 = s1 = s2 = 0.0
+    a0, a1, a2 = p[0, 0] - r0, p[0, 1] - r1, p[0, 2] - r2
+    for i in range(1, m - 1):
+        b0, b1, b2 = p[i, 0] - r0, p[i, 1] - r1, p[i, 2] - r2
+        d0, d1, d2 = p[i + 1, 0] - r0, p[i + 1, 1] - r1, p[i + 1, 2] - r2
+        v6 = a0 * (b1 * d2 - b2 * d1) - a1 * (b0 * d2 - b2 * d0) + a2 * (b0 * d1 - b1 * d0)
+        vol += v6
+        c0 += v6 * (a0 + b0 + d0)
+        c1 += v6 * (a1 + b1 + d1)
+        c2 += v6 * (a2 + b2 + d2)
+        f0, f1, f2 = b0 - a0, b1 - a1, b2 - a2
+        g0, g1, g2 = d0 - a0, d1 - a1, d2 - a2
+        s0 += 0.5 * (f1 * g2 - f2 * g1)
+        s1 += 0.5 * (f2 * g0 - f0 * g2)
+        s2 += 0.5 * (f0 * g1 - f1 * g0)
+    return vol, c0, c1, c2, s0, s1, s2
+
+
+@njit(**JIT)
 def volume_centroid(pts, counts):
     """(volume [m^3], centroid (3,) [m]) of a closed polyhedron given by its faces (0, NaN if empty)."""
     ref = np.zeros(3)
@@ -226,20 +251,11 @@ def volume_centroid(pts, counts):
     c = np.zeros(3)
     if not found:
         return 0.0, np.full(3, np.nan)
-    vol = 0.0
+    vol = c0 = c1 = c2 = 0.0
     r0, r1, r2 = ref[0], ref[1], ref[2]
-    c0 = c1 = c2 = 0.0
-    for f in range(counts.shape[0]):  # tetrahedra (ref, p0, pi, pi+1), in scalars: no temporaries
-        p = pts[f]
-        a0, a1, a2 = p[0, 0] - r0, p[0, 1] - r1, p[0, 2] - r2
-        for i in range(1, counts[f] - 1):
-            b0, b1, b2 = p[i, 0] - r0, p[i, 1] - r1, p[i, 2] - r2
-            d0, d1, d2 = p[i + 1, 0] - r0, p[i + 1, 1] - r1, p[i + 1, 2] - r2
-            v6 = a0 * (b1 * d2 - b2 * d1) - a1 * (b0 * d2 - b2 * d0) + a2 * (b0 * d1 - b1 * d0)
-            vol += v6
-            c0 += v6 * (a0 + b0 + d0)
-            c1 += v6 * (a1 + b1 + d1)
-            c2 += v6 * (a2 + b2 + d2)
+    for f in range(counts.shape[0]):
+        v6, m0, m1, m2, _, _, _ = fan_sums(pts[f], counts[f], r0, r1, r2)
+        vol, c0, c1, c2 = vol + v6, c0 + m0, c1 + m1, c2 + m2
     c[0], c[1], c[2] = c0 / (4.0 * vol) + r0, c1 / (4.0 * vol) + r1, c2 / (4.0 * vol) + r2
     if vol <= 0.0:
         return 0.0, np.full(3, np.nan)

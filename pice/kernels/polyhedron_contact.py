@@ -25,7 +25,7 @@ import numpy as np
 from numba import njit
 
 from . import JIT
-from .polyhedra import EPS, _clip_face, face_planes, overlap, separated, volume_centroid
+from .polyhedra import EPS, _clip_face, face_planes, fan_sums, overlap, separated, volume_centroid
 
 
 @njit(**JIT)
@@ -98,21 +98,10 @@ def contact_geometry_planes(a_pts, a_counts, a_planes, b_pts, b_counts, b_planes
             if not have_ref:
                 r0, r1, r2 = p[0, 0], p[0, 1], p[0, 2]
                 have_ref = True
-            a0, a1, a2 = p[0, 0] - r0, p[0, 1] - r1, p[0, 2] - r2
-            for i in range(1, m - 1):
-                b0, b1, b2 = p[i, 0] - r0, p[i, 1] - r1, p[i, 2] - r2
-                d0, d1, d2 = p[i + 1, 0] - r0, p[i + 1, 1] - r1, p[i + 1, 2] - r2
-                v6 = a0 * (b1 * d2 - b2 * d1) - a1 * (b0 * d2 - b2 * d0) + a2 * (b0 * d1 - b1 * d0)
-                vol += v6
-                c0 += v6 * (a0 + b0 + d0)
-                c1 += v6 * (a1 + b1 + d1)
-                c2 += v6 * (a2 + b2 + d2)
-                if side == 0:
-                    e0, e1, e2 = b0 - a0, b1 - a1, b2 - a2
-                    g0, g1, g2 = d0 - a0, d1 - a1, d2 - a2
-                    s0 += 0.5 * (e1 * g2 - e2 * g1)
-                    s1 += 0.5 * (e2 * g0 - e0 * g2)
-                    s2 += 0.5 * (e0 * g1 - e1 * g0)
+            v6, m0, m1, m2, a0, a1, a2 = fan_sums(p, m, r0, r1, r2)
+            vol, c0, c1, c2 = vol + v6, c0 + m0, c1 + m1, c2 + m2
+            if side == 0:  # S_A: the vector areas of A's parts
+                s0, s1, s2 = s0 + a0, s1 + a1, s2 + a2
     centre = np.full(3, np.nan)
     normal = np.zeros(3)
     if vol <= 0.0:
@@ -148,20 +137,8 @@ def part_inside(pts, counts, n0, n1, n2, offset, buf, e0=0.0, e1=0.0):
         for i in range(m):
             across = p[i, 0] * e0 + p[i, 1] * e1
             lo, hi, zmin = min(lo, across), max(hi, across), min(zmin, p[i, 2])
-        a0, a1, a2 = p[0, 0] - r0, p[0, 1] - r1, p[0, 2] - r2
-        for i in range(1, m - 1):
-            b0, b1, b2 = p[i, 0] - r0, p[i, 1] - r1, p[i, 2] - r2
-            d0, d1, d2 = p[i + 1, 0] - r0, p[i + 1, 1] - r1, p[i + 1, 2] - r2
-            v6 = a0 * (b1 * d2 - b2 * d1) - a1 * (b0 * d2 - b2 * d0) + a2 * (b0 * d1 - b1 * d0)
-            vol += v6
-            c0 += v6 * (a0 + b0 + d0)
-            c1 += v6 * (a1 + b1 + d1)
-            c2 += v6 * (a2 + b2 + d2)
-            f0, f1, f2 = b0 - a0, b1 - a1, b2 - a2
-            g0, g1, g2 = d0 - a0, d1 - a1, d2 - a2
-            s0 += 0.5 * (f1 * g2 - f2 * g1)
-            s1 += 0.5 * (f2 * g0 - f0 * g2)
-            s2 += 0.5 * (f0 * g1 - f1 * g0)
+        v6, m0, m1, m2, a0, a1, a2 = fan_sums(p, m, r0, r1, r2)
+        vol, c0, c1, c2, s0, s1, s2 = vol + v6, c0 + m0, c1 + m1, c2 + m2, s0 + a0, s1 + a1, s2 + a2
     centre = np.full(3, np.nan)
     if vol <= 0.0:
         return 0.0, centre, 0.0, lo, hi, zmin

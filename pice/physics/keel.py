@@ -96,6 +96,19 @@ def keel_step(keel, floes: Floes) -> float:
     return min(0.5 * stable, accurate)
 
 
+def settle_steps(system: FloeSystem, n: int, t: float, dt: float) -> float:
+    """``n`` velocity-Verlet steps of dt [s] of the settling blocks (no bodies), from time t; returns
+    the time reached [s]."""
+    none = np.zeros((0, 13))
+    for _ in range(n):
+        system.kick(0.5 * dt)
+        system.drift(dt)
+        t += dt
+        system.compute_forces(none, t, dt)
+        system.kick(0.5 * dt)
+    return t
+
+
 def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
     """Release, settle and trim the job's keel on the ranks of ``comm`` (module docstring).
 
@@ -118,12 +131,7 @@ def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
     else:
         system.compute_forces(none, 0.0, dt)
     while t < keel.settle_time:
-        for _ in range(every):
-            system.kick(0.5 * dt)
-            system.drift(dt)
-            t += dt
-            system.compute_forces(none, t, dt)
-            system.kick(0.5 * dt)
+        t = settle_steps(system, every, t, dt)
         rms = math.sqrt(float((floes.v ** 2).sum(axis=1).mean()))
         if save is not None:
             save(t, system.state())
