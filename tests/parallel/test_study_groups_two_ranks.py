@@ -72,27 +72,38 @@ def test_group_size_must_divide_the_ranks(tmp_path):
     assert not (base / "never").exists()
 
 
-def test_the_queue_is_served_while_rank_0_works():
-    """Rank 0 takes a number, then "runs a variant" for 3 s, serving the queue every 10 ms as run_job's
-    poll does; rank 1's take must return long before that (bound 1.5 s: a served request takes
-    milliseconds, an unserved one the whole 3 s)."""
+def test_the_queue_is_served_while_rank_0_works(tmp_path):
+    """Rank 0 takes a number, then "runs a variant": it makes no MPI call but the queue's ``serve``
+    (run_job's poll) until a file that rank 1 writes once its own ``take`` has returned appears; rank 1
+    asks only after rank 0 has taken its number (a file too). With
+    no serving, rank 1's request is never answered and rank 0 would wait in vain; the loop is bounded
+    (20,000 polls) only so that such a failure ends."""
     comm = need_two_ranks()
+    folder = pathlib.Path(comm.bcast(str(tmp_path)))
+    flag, started = folder / "rank1_took", folder / "rank0_took"
     queue = WorkQueue(comm)
-    t0 = time.perf_counter()
+    got = None
     if comm.rank == 0:
-        assert queue.take() in (0, 1)
-        while time.perf_counter() - t0 < 3.0:
-            time.sleep(0.01)
+        mine = queue.take()
+        started.write_text(str(mine))  # rank 1 asks only now, while rank 0 is out of MPI
+        for _ in range(20_000):
+            if flag.exists():
+                break
             queue.serve()
-        waited = 0.0
+            time.sleep(0.001)
+        served = flag.exists()
     else:
-        time.sleep(0.2)  # rank 0 has taken its number and is "running"
+        while not started.exists():
+            time.sleep(0.001)
         got = queue.take()
-        waited = time.perf_counter() - t0
-        assert got in (0, 1)
-    waited = comm.max(waited)
+        flag.write_text(str(got))
+        served = True
+    served = comm.min(1.0 if served else 0.0) > 0.5
+    numbers = comm.gather(mine if comm.rank == 0 else got)
     queue.free()
-    assert waited < 1.5, f"rank 1 waited {waited:.2f} s for the queue while rank 0 worked"
+    assert served, "rank 1's take was not answered while rank 0 served the queue"
+    if comm.rank == 0:
+        assert sorted(numbers) == [0, 1]  # each number handed out once
 
 
 def test_two_long_variants_run_side_by_side(tmp_path):
