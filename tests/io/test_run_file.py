@@ -53,3 +53,43 @@ def test_existing_run_file_is_not_replaced_without_overwrite(tmp_path, capsys):
     assert main(["run", str(job), "-o", str(out)]) == 4
     assert out.read_bytes() == b"precious"
     assert "--overwrite" in capsys.readouterr().err
+
+
+def test_series_rows_held_in_blocks_are_all_written_in_order(tmp_path, monkeypatch):
+    """Rows are written SERIES_BLOCK at a time, and what is held is written before a snapshot, at a
+    flush (a checkpoint) and at the close: the file then holds every row in order, the same as row
+    by row (block 1), including a key that first appears in a later row (zeros before it, as row by
+    row) and a block cut short by a snapshot."""
+    import types
+
+    from pice.io import run_file
+    from pice.io.run_file import RunFile
+
+    job = types.SimpleNamespace(text="# synthetic\n", source="synthetic.toml")
+    rows = [dict(time=0.1 * k, force=np.arange(3.0) * k) for k in range(23)]
+    for row in rows[9:]:
+        row["late"] = np.array([[1.0, 2.0]]) * row["time"]
+    arrays = dict(gid=np.arange(2), x=np.zeros((2, 3)), v=np.zeros((2, 3)), w=np.zeros((2, 3)),
+                  radius=np.ones(2), kind=np.zeros(2, np.int8), crush_depth=np.zeros(2), bonds=np.zeros((0, 2)))
+
+    def write(path, block):
+        monkeypatch.setattr(run_file, "SERIES_BLOCK", block)
+        f = RunFile(path, job=job)
+        for k, row in enumerate(rows):
+            f.append_series(row)
+            if k == 6:
+                f.write_snapshot_arrays(0, time=row["time"], step=k, arrays=arrays)
+                assert f.h5["series/time"].shape == (7,)  # written before the snapshot
+            if k == 15:
+                f.flush()
+        f.close("finished")
+        with h5py.File(path) as g:
+            return {key: g["series"][key][()] for key in g["series"]}
+
+    by_row, by_block = write(tmp_path / "a.h5", 1), write(tmp_path / "b.h5", 4)
+    assert by_row.keys() == by_block.keys() == {"time", "force", "late"}
+    for key in by_row:
+        np.testing.assert_array_equal(by_block[key], by_row[key])
+    np.testing.assert_array_equal(by_block["time"], [r["time"] for r in rows])
+    np.testing.assert_array_equal(by_block["late"][:9], 0.0)
+    np.testing.assert_array_equal(by_block["late"][9:], [r["late"] for r in rows[9:]])
