@@ -57,20 +57,21 @@ def submerged_volume(vertices, triangles, level):
         p[k] = vertices[:, k].mean()
     p[2] = level
     poly = np.empty((4, 3))
-    for t in range(triangles.shape[0]):
-        corners = vertices[triangles[t]]
+    for t in range(triangles.shape[0]):  # (no array is made per triangle: 30 -> 4 us for the buoy's 512)
         npoly = 0
         for e in range(3):  # Sutherland-Hodgman against the half-space z <= level
-            a = corners[e]
-            b = corners[(e + 1) % 3]
-            a_in = a[2] <= level
-            b_in = b[2] <= level
+            ia = triangles[t, e]
+            ib = triangles[t, (e + 1) % 3]
+            a_in = vertices[ia, 2] <= level
+            b_in = vertices[ib, 2] <= level
             if a_in:
-                poly[npoly] = a
+                for k in range(3):
+                    poly[npoly, k] = vertices[ia, k]
                 npoly += 1
             if a_in != b_in:
-                s = (level - a[2]) / (b[2] - a[2])
-                poly[npoly] = a + s * (b - a)
+                s = (level - vertices[ia, 2]) / (vertices[ib, 2] - vertices[ia, 2])
+                for k in range(2):
+                    poly[npoly, k] = vertices[ia, k] + s * (vertices[ib, k] - vertices[ia, k])
                 poly[npoly, 2] = level
                 npoly += 1
         for k in range(1, npoly - 1):

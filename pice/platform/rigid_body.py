@@ -118,6 +118,47 @@ def rigid_step(x, v, q, L, mass, principal_inertia, force, torque, dt):
     return x, v, q, L
 
 
+@njit(**JIT)
+def still_water_loads(vertices, triangles, braces, brace_slices, x, v, q, L, mass, inertia, added_mass, damping,
+                      current_drag, current, rho_w, g, level):
+    """(force [N], moment about the CG [N m]) of ``RigidBody.hydro_loads`` in still water, in one call:
+    buoyancy of the hull mesh and braces at their combined centre (platform.hull_buoyancy), gravity,
+    quadratic damping of the body-frame velocities and current drag on the horizontal motion.
+    inertia: the principal moments with the added inertia [kg m^2]; current (2,) [m/s]."""
+    R = rotation_matrix(q)
+    vol, cob = hull_buoyancy.submerged_volume(hull_buoyancy.transform(vertices, R, x), triangles, level)
+    if braces.shape[0] > 0:
+        mom = vol * cob if vol > 0.0 else np.zeros(3)
+        vol, mom = hull_buoyancy._add_braces(vol, mom, braces, R, x, level, brace_slices)
+        if vol > 0.0:
+            cob = mom / vol
+    f = np.zeros(3)
+    m = np.zeros(3)
+    if vol > 0.0:  # rho_w g V at the centre of buoyancy: arm x (0, 0, fz)
+        fz = rho_w * g * vol
+        f[2] = fz
+        m[0] = (cob[1] - x[1]) * fz
+        m[1] = -(cob[0] - x[0]) * fz
+    f[2] += -mass * g
+    vb = R.T @ v
+    wb = R.T @ (R @ ((R.T @ L) / inertia))
+    f = f - R @ (damping[:3] * np.abs(vb) * vb)
+    m = m - R @ (damping[3:] * np.abs(wb) * wb)
+    for k in range(2):
+        rel = current[k] - v[k]
+        f[k] += current_drag[k] * abs(rel) * rel
+    return f, m
+
+
+@njit(**JIT)
+def kick_free(v, L, q, force, torque, mass, half_dt):
+    """Half a step [s] of a free body's momentum: (v [m/s], L [kg m^2/s]) after the force [N], with
+    the diagonal mass (3,) [kg] (the body's and the added mass) acting in the body frame, and the
+    torque [N m]."""
+    R = rotation_matrix(q)
+    return v + half_dt * (R @ ((R.T @ force) / mass)), L + half_dt * torque
+
+
 # -- attitude as angles ------------------------------------------------------------------------
 def euler_angles(q) -> np.ndarray:
     """(roll, pitch, yaw) [rad] of a unit quaternion (w, x, y, z): the z-y'-x'' (yaw, then pitch, then
@@ -241,10 +282,12 @@ class RigidBody:
         at time t (hull_waves.wave_loads; the platform interpolates it in time,
         platform.wave_intervals), None: summed at t. The flow at the centre of buoyancy
         (``wave_flow``, two point sums) is summed at t."""
-        if sea is None:
-            f_b, m_b, _ = self.hydrostatics(rho_w=rho_w, g=g, level=level)
-        else:
-            f_b, m_b = hull_waves.wave_loads(self, sea, t, rho_w=rho_w, g=g, level=level, waves=waves)
+        if sea is None:  # one kernel call
+            return still_water_loads(self.vertices, self.triangles, self.braces, int(self.brace_slices), self.x,
+                                     self.v, self.q, self.L, float(self.mass), self.effective_inertia,
+                                     self.added_mass, self.damping, self.current_drag,
+                                     np.asarray(current, float), rho_w, g, level)
+        f_b, m_b = hull_waves.wave_loads(self, sea, t, rho_w=rho_w, g=g, level=level, waves=waves)
         f = f_b + np.array([0.0, 0.0, -self.mass * g])
         m = m_b
         R = rotation_matrix(self.q)
@@ -252,11 +295,9 @@ class RigidBody:
         wb = R.T @ self.omega
         f = f - R @ (self.damping[:3] * np.abs(vb) * vb)
         m = m - R @ (self.damping[3:] * np.abs(wb) * wb)
-        rel = np.asarray(current, float) - self.v[:2]
-        if sea is not None:
-            u, a = self.wave_flow(sea, t, level=level)
-            rel = rel + u[:2]
-            f = f + R @ (self.added_mass[:3] * (R.T @ a))  # Eq. 11: A a, the small body's diffraction
+        u, a = self.wave_flow(sea, t, level=level)
+        rel = np.asarray(current, float) - self.v[:2] + u[:2]
+        f = f + R @ (self.added_mass[:3] * (R.T @ a))  # Eq. 11: A a, the small body's diffraction
         f[:2] += self.current_drag * np.abs(rel) * rel
         return f, m
 
@@ -275,10 +316,8 @@ class RigidBody:
             R = rotation_matrix(self.q)
             self.L = R @ (self.effective_inertia * (R.T @ w))
             return
-        R = rotation_matrix(self.q)
-        m_eff = self.mass + self.added_mass[:3]
-        self.v = self.v + half_dt * (R @ ((R.T @ self.force) / m_eff))
-        self.L = self.L + half_dt * self.torque
+        self.v, self.L = kick_free(self.v, self.L, self.q, self.force, self.torque, self.mass + self.added_mass[:3],
+                                   half_dt)
 
     def drift(self, dt: float) -> None:
         """x += v dt and the exact torque-free rotation over dt (free_rotation)."""

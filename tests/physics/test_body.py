@@ -196,6 +196,38 @@ def test_braced_hull_loads_match_the_meshed_braces_at_a_pitched_pose():
     assert abs(f[2] - f0[2]) > 0.01 * f_ref[2] and np.linalg.norm(m - m0) > 0.01 * np.linalg.norm(m_ref)
 
 
+def test_still_water_loads_in_one_kernel_equal_their_parts():
+    """RigidBody.hydro_loads in still water is one compiled call (rigid_body.still_water_loads); it
+    must equal the loads of the module docstring put together from their parts: the buoyancy of
+    ``hydrostatics`` (hull mesh and braces), gravity -m g, quadratic damping -R (B |u_B| u_B) of the
+    body-frame velocities u_B = R^T v and R^T omega, and the current drag C |u_c - v| (u_c - v) on
+    x and y. The semi-submersible with its braces at 20 random poses (pitch and roll to 10 deg,
+    the waterline across columns and braces), random velocities and spin. Tolerance 1e-12 of the
+    largest load: the same formulas in another order of operations (round-off, ~1e-16)."""
+    rng = np.random.default_rng(7)
+    body = semi()
+    body.damping = np.array([3e5, 4e5, 5e5, 6e8, 7e8, 8e8])
+    body.current_drag = np.array([2e4, 3e4])
+    current = np.array([0.4, -0.3])
+    for _ in range(20):
+        axis = np.array([*rng.normal(size=2), 0.3 * rng.normal()])
+        a = math.radians(rng.uniform(0.0, 10.0))
+        body.q = np.array([math.cos(a / 2), *(math.sin(a / 2) * axis / np.linalg.norm(axis))])
+        body.x = np.array([*rng.normal(size=2), -5.1 + rng.uniform(-3.0, 3.0)])
+        body.v = rng.normal(size=3)
+        body.L = rng.normal(size=3) * 1e9
+        f, m = body.hydro_loads(rho_w=RHO, g=G, level=0.0, current=current)
+        f_b, m_b, _ = body.hydrostatics(rho_w=RHO, g=G, level=0.0)
+        R = rotation_matrix(body.q)
+        vb, wb = R.T @ body.v, R.T @ body.omega
+        rel = current - body.v[:2]
+        f_ref = f_b + np.array([0.0, 0.0, -body.mass * G]) - R @ (body.damping[:3] * np.abs(vb) * vb)
+        f_ref[:2] += body.current_drag * np.abs(rel) * rel
+        m_ref = m_b - R @ (body.damping[3:] * np.abs(wb) * wb)
+        assert np.abs(f - f_ref).max() <= 1e-12 * np.abs(f_ref).max()
+        assert np.abs(m - m_ref).max() <= 1e-12 * np.abs(m_ref).max()
+
+
 def test_rigid_body_refuses_bad_braces():
     """Braces must be BRACE_RECORD records (p0, p1, radius) with a positive radius and two distinct ends."""
     v, t = box(1.0, 1.0, 1.0)
