@@ -54,16 +54,26 @@ def _record(v: Variant) -> pathlib.Path:
     return v.run.with_suffix(".outcome.json")
 
 
+def _job_body(text: str) -> str:
+    """A variant's job text without its header comment (which names the job file it came from: a
+    study moved to another folder, or its job renamed, is the same study)."""
+    lines = text.splitlines()
+    while lines and lines[0].startswith("#"):
+        lines.pop(0)
+    return "\n".join(lines)
+
+
 def _finished(v: Variant) -> dict | None:
     """The outcome of a variant run to its end (or refused) by an earlier call of the same study (its
-    job text unchanged, its run file closed as "finished" when it ran), else None."""
+    job text unchanged but for the header comment, its run file closed as "finished" when it ran),
+    else None."""
     import json
 
     import h5py
 
     try:
         row = json.loads(_record(v).read_text(encoding="utf-8"))
-        if row.get("job_text") != v.text:
+        if _job_body(row.get("job_text", "")) != _job_body(v.text):
             return None
         if row.get("error") is None:
             with h5py.File(v.run, "r") as f:

@@ -315,6 +315,17 @@ def test_a_restarted_study_runs_only_what_is_not_finished(tmp_path, monkeypatch)
     assert ran == [str(out / "tiny_1.h5")]
     with open(out / "study.csv", newline="") as f:
         assert len(list(csv.DictReader(f))) == 2
+    # the same job moved to another folder and renamed: the same study, nothing runs again
+    moved = tmp_path / "moved" / "tiny.toml"
+    moved.parent.mkdir()
+    moved.write_text(job.read_text())
+    ran.clear()
+    assert main(["study", str(moved), "--vary", "run.dt=2e-4,4e-4", "--out", str(out)]) == 0
+    assert ran == []
+    # a changed job runs every variant again
+    moved.write_text(job.read_text().replace("friction = 0.3", "friction = 0.5", 1))
+    assert main(["study", str(moved), "--vary", "run.dt=2e-4,4e-4", "--out", str(out)]) == 0
+    assert ran == [str(out / "tiny_0.h5"), str(out / "tiny_1.h5")]
 
 
 
