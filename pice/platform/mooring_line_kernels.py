@@ -49,8 +49,39 @@ from .wave_intervals import WAVE_FIELDS, blend_waves
 FREE, FIXED, PRESCRIBED = 0, 1, 2
 
 
+# columns of ``node_constants``: what each node stands for, from the half of each adjacent element
+WEIGHT, DRAG_N, DRAG_T, ADDED, DIAMETER, LENGTH, VOLUME = range(7)
+
+
 @njit(**JIT)
-def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, sea, time, force, tension, added_mass):
+def node_constants(prev, seg, props):
+    """(n, 7) per node, from the half of each adjacent element it stands for: its weight in water [N],
+    drag areas x coefficients C_dn D dl and C_dt pi D dl [m^2], added-mass coefficient x volume
+    C_a pi D^2/4 dl [m^3], largest diameter [m] (the seabed), line length dl [m] and displaced
+    volume pi D^2/4 dl [m^3] (columns WEIGHT..VOLUME). They depend on the lines' elements only:
+    platform.mooring_lines.MooringLines takes them once."""
+    n = prev.shape[0]
+    out = np.zeros((n, 7))
+    for i in range(n):
+        p = prev[i]
+        if p < 0:
+            continue
+        el = props[seg[i]]
+        D, half = el["diameter"], 0.5 * el["l0"]
+        for node in (p, i):
+            out[node, WEIGHT] += el["wet_weight"] * half
+            out[node, DRAG_N] += el["drag_normal"] * D * half
+            out[node, DRAG_T] += el["drag_tangential"] * math.pi * D * half
+            out[node, ADDED] += el["added_mass"] * 0.25 * math.pi * D * D * half
+            out[node, DIAMETER] = max(out[node, DIAMETER], D)
+            out[node, LENGTH] += half
+            out[node, VOLUME] += 0.25 * math.pi * D * D * half
+    return out
+
+
+@njit(**JIT)
+def line_forces(x, v, mass, prev, seg, props, constants, kind, water, current, seabed, sea, time, force, tension,
+                added_mass, tangent):
     """``node_forces`` in ``sea`` (SeaComponents) at ``time`` [s], its waves taken at every node
     (``wave_at``, the sums of kernels.waves.sea_point); still water takes none."""
     n = x.shape[0] if sea.amplitude.shape[0] > 0 else 0
@@ -59,17 +90,20 @@ def line_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, sea,
         w = wave_at(sea, x[i, 0], x[i, 1], x[i, 2] - water.level, time)
         for f in range(WAVE_FIELDS):
             wave[i, f] = w[f]
-    node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave, force, tension, added_mass)
+    node_forces(x, v, mass, prev, seg, props, constants, kind, water, current, seabed, wave, force, tension,
+                added_mass, tangent)
 
 
 @njit(**JIT)
-def node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave, force, tension, added_mass):
-    """Forces on every node [N]; bond tensions [N] stored at the bond's upper node; added mass [kg].
+def node_forces(x, v, mass, prev, seg, props, constants, kind, water, current, seabed, wave, force, tension,
+                added_mass, tangent):
+    """Forces on every node [N]; bond tensions [N] stored at the bond's upper node; added mass [kg];
+    the unit tangent at every node, the mean direction of its bonds (0 for a node without bonds).
 
-    water: LineWater (density [kg/m^3], level [m]); current: (3,) [m/s]; seabed: Seabed (z [m],
-    stiffness [N/m per m of line], damping_ratio, friction, slip_velocity [m/s]); wave: (n,
-    WAVE_FIELDS) the waves at each node (eta [m] over it, particle velocity [m/s], acceleration
-    [m/s^2]; ``node_waves``), or (0, WAVE_FIELDS) in still water.
+    constants: ``node_constants``; water: LineWater (density [kg/m^3], level [m]); current: (3,)
+    [m/s]; seabed: Seabed (z [m], stiffness [N/m per m of line], damping_ratio, friction,
+    slip_velocity [m/s]); wave: (n, WAVE_FIELDS) the waves at each node (eta [m] over it, particle
+    velocity [m/s], acceleration [m/s^2]; ``node_waves``), or (0, WAVE_FIELDS) in still water.
     """
     n = x.shape[0]
     rho = water.density
@@ -79,17 +113,10 @@ def node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave
         force[i, 2] = 0.0
         tension[i] = 0.0
         added_mass[i] = 0.0
-    tangent = np.zeros((n, 3))
-    # per node, from the half of each adjacent element it stands for: weight [N], drag areas
-    # [m^2] x coefficients, added-mass coefficient x volume [m^3], largest diameter (seabed)
-    weight = np.zeros(n)
-    drag_n = np.zeros(n)
-    drag_t = np.zeros(n)
-    am = np.zeros(n)
-    diam = np.zeros(n)
-    length = np.zeros(n)  # line length a node stands for [m]
+        tangent[i, 0] = 0.0
+        tangent[i, 1] = 0.0
+        tangent[i, 2] = 0.0
     waves = wave.shape[0] > 0
-    volume = np.zeros(n if waves else 0)  # displaced volume a node stands for [m^3] (waves only)
     # axial bonds
     for i in range(n):
         p = prev[i]
@@ -115,26 +142,25 @@ def node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave
         force[i, 0] -= t * u0
         force[i, 1] -= t * u1
         force[i, 2] -= t * u2
-        D, half = el["diameter"], 0.5 * l0
-        for node in (p, i):
-            tangent[node, 0] += u0
-            tangent[node, 1] += u1
-            tangent[node, 2] += u2
-            weight[node] += el["wet_weight"] * half
-            drag_n[node] += el["drag_normal"] * D * half
-            drag_t[node] += el["drag_tangential"] * math.pi * D * half
-            am[node] += el["added_mass"] * 0.25 * math.pi * D * D * half
-            diam[node] = max(diam[node], D)
-            length[node] += half
-            if waves:
-                volume[node] += 0.25 * math.pi * D * D * half
+        tangent[p, 0] += u0
+        tangent[p, 1] += u1
+        tangent[p, 2] += u2
+        tangent[i, 0] += u0
+        tangent[i, 1] += u1
+        tangent[i, 2] += u2
     # weight, Morison loads and seabed per node
     z_bed, k_bed, zeta_bed, mu_bed, v_slip = (seabed.z, seabed.stiffness, seabed.damping_ratio, seabed.friction,
                                               seabed.slip_velocity)
     for i in range(n):
-        force[i, 2] -= weight[i]
+        c = constants[i]
+        force[i, 2] -= c[WEIGHT]
         tn = math.sqrt(tangent[i, 0] ** 2 + tangent[i, 1] ** 2 + tangent[i, 2] ** 2)
-        t0, t1, t2 = (tangent[i, 0] / tn, tangent[i, 1] / tn, tangent[i, 2] / tn) if tn > 0 else (0.0, 0.0, 1.0)
+        if tn > 0:
+            for k in range(3):
+                tangent[i, k] /= tn
+            t0, t1, t2 = tangent[i, 0], tangent[i, 1], tangent[i, 2]
+        else:
+            t0, t1, t2 = 0.0, 0.0, 1.0
         wet = x[i, 2] <= water.level
         f0, f1, f2 = current[0], current[1], current[2]
         if waves:
@@ -143,7 +169,7 @@ def node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave
             if wet:
                 # Froude-Krylov rho V a and added mass rho C_a V a_n (normal part); the drag's flow
                 at = w[4] * t0 + w[5] * t1 + w[6] * t2
-                fk, ca = rho * volume[i], rho * am[i]
+                fk, ca = rho * c[VOLUME], rho * c[ADDED]
                 force[i, 0] += fk * w[4] + ca * (w[4] - at * t0)
                 force[i, 1] += fk * w[5] + ca * (w[5] - at * t1)
                 force[i, 2] += fk * w[6] + ca * (w[6] - at * t2)
@@ -155,15 +181,15 @@ def node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave
             rt = r0 * t0 + r1 * t1 + r2 * t2
             n0, n1, n2 = r0 - rt * t0, r1 - rt * t1, r2 - rt * t2
             vn = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-            cn = 0.5 * rho * drag_n[i] * vn
-            ct = 0.5 * rho * drag_t[i] * abs(rt)
+            cn = 0.5 * rho * c[DRAG_N] * vn
+            ct = 0.5 * rho * c[DRAG_T] * abs(rt)
             force[i, 0] += cn * n0 + ct * rt * t0
             force[i, 1] += cn * n1 + ct * rt * t1
             force[i, 2] += cn * n2 + ct * rt * t2
-            added_mass[i] = rho * am[i]
-        pen = z_bed - (x[i, 2] - 0.5 * diam[i])
+            added_mass[i] = rho * c[ADDED]
+        pen = z_bed - (x[i, 2] - 0.5 * c[DIAMETER])
         if k_bed > 0.0 and pen > 0.0:
-            kb = k_bed * length[i]
+            kb = k_bed * c[LENGTH]
             fn = kb * pen - 2.0 * zeta_bed * math.sqrt(kb * mass[i]) * v[i, 2]
             if fn > 0.0:
                 force[i, 2] += fn
@@ -192,33 +218,8 @@ def accelerate(v, force, mass, added_mass, tangent_of, kind, half_dt):
 
 
 @njit(**JIT)
-def node_tangents(x, prev, out):
-    """Unit tangent at each node: the mean direction of its bonds."""
-    n = x.shape[0]
-    out[:] = 0.0
-    for i in range(n):  # (in scalars: an array per node made it 55 us for 564 nodes, now ~3 us)
-        p = prev[i]
-        if p < 0:
-            continue
-        d0, d1, d2 = x[i, 0] - x[p, 0], x[i, 1] - x[p, 1], x[i, 2] - x[p, 2]
-        length = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-        d0, d1, d2 = d0 / length, d1 / length, d2 / length
-        out[p, 0] += d0
-        out[p, 1] += d1
-        out[p, 2] += d2
-        out[i, 0] += d0
-        out[i, 1] += d1
-        out[i, 2] += d2
-    for i in range(n):
-        m = math.sqrt(out[i, 0] ** 2 + out[i, 1] ** 2 + out[i, 2] ** 2)
-        if m > 0:
-            for k in range(3):
-                out[i, k] /= m
-
-
-@njit(**JIT)
-def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, wave0, wave1, wave, wave_a, force,
-                   tension, added_mass, tangent, fairleads, x_start, x_end, v_fairlead, a, dt):
+def verlet_substep(x, v, mass, prev, seg, props, constants, kind, water, current, seabed, wave0, wave1, wave, wave_a,
+                   force, tension, added_mass, tangent, fairleads, x_start, x_end, v_fairlead, a, dt):
     """One velocity-Verlet sub-step of dt [s] ending at the fraction ``a`` of its call's interval:
     half kick, drift of the free nodes, the fairlead nodes placed at (1 - a) x_start + a x_end
     (n_lines, 3) [m] with velocity v_fairlead [m/s], forces in the waves (1 - wave_a) wave0 + wave_a
@@ -236,14 +237,14 @@ def verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, w
             x[f, d] = (1.0 - a) * x_start[j, d] + a * x_end[j, d]
             v[f, d] = v_fairlead[j, d]
     blend_waves(wave0, wave1, wave_a, wave)
-    node_forces(x, v, mass, prev, seg, props, kind, water, current, seabed, wave, force, tension, added_mass)
-    node_tangents(x, prev, tangent)
+    node_forces(x, v, mass, prev, seg, props, constants, kind, water, current, seabed, wave, force, tension,
+                added_mass, tangent)
     accelerate(v, force, mass, added_mass, tangent, kind, 0.5 * dt)
 
 
 @njit(**JIT)
-def advance_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, wave0, wave1, a0, a1, force, tension,
-                  added_mass, tangent, fairleads, x_start, x_end, v_fairlead, dt, nsub):
+def advance_lines(x, v, mass, prev, seg, props, constants, kind, water, current, seabed, wave0, wave1, a0, a1, force,
+                  tension, added_mass, tangent, fairleads, x_start, x_end, v_fairlead, dt, nsub):
     """nsub velocity-Verlet sub-steps of dt [s]; the fairlead nodes move linearly from x_start to
     x_end (n_lines, 3) [m] with velocity v_fairlead [m/s]; anchors stay fixed. The waves: wave0 and
     wave1 (n, WAVE_FIELDS) are the sea at the nodes at the two ends of an interval (``node_waves``)
@@ -253,14 +254,14 @@ def advance_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, wa
     wave = np.empty((wave0.shape[0], WAVE_FIELDS))
     for k in range(nsub):
         a = (k + 1.0) / nsub
-        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, wave0, wave1, wave,
+        verlet_substep(x, v, mass, prev, seg, props, constants, kind, water, current, seabed, wave0, wave1, wave,
                        a0 + a * (a1 - a0), force, tension, added_mass, tangent, fairleads, x_start, x_end,
                        v_fairlead, a, dt)
 
 
 @njit(**JIT)
-def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, force, tension, added_mass, tangent, dt,
-                max_steps, tol):
+def relax_lines(x, v, mass, prev, seg, props, constants, kind, water, current, seabed, force, tension, added_mass,
+                tangent, dt, max_steps, tol):
     """Static equilibrium by kinetic damping (dynamic relaxation): step the lines with fixed ends and
     zero every velocity whenever the kinetic energy has just peaked. Stops when the largest net force
     on a free node is below ``tol`` [N] or after max_steps. Returns the steps taken. In still water
@@ -271,8 +272,9 @@ def relax_lines(x, v, mass, prev, seg, props, kind, water, current, seabed, forc
     no_waves = np.zeros((0, WAVE_FIELDS))
     ke_prev = 0.0
     for step in range(max_steps):
-        verlet_substep(x, v, mass, prev, seg, props, kind, water, current, seabed, no_waves, no_waves, no_waves, 1.0,
-                       force, tension, added_mass, tangent, no_fairleads, no_points, no_points, no_points, 1.0, dt)
+        verlet_substep(x, v, mass, prev, seg, props, constants, kind, water, current, seabed, no_waves, no_waves,
+                       no_waves, 1.0, force, tension, added_mass, tangent, no_fairleads, no_points, no_points,
+                       no_points, 1.0, dt)
         ke = 0.0
         worst = 0.0
         for i in range(n):

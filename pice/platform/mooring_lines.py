@@ -20,7 +20,7 @@ import numpy as np
 
 from .catenary import Segment, profile, solve_line
 from .sea import SeaComponents, still_water
-from .mooring_line_kernels import (FIXED, FREE, PRESCRIBED, advance_lines, line_energies, line_forces, node_tangents,
+from .mooring_line_kernels import (FIXED, FREE, PRESCRIBED, advance_lines, line_energies, line_forces, node_constants,
                                    relax_lines)
 from .wave_intervals import WAVE_FIELDS, node_waves
 
@@ -88,12 +88,14 @@ class MooringLines:
         self.tension = np.zeros(n)
         self.added_mass = np.zeros(n)
         self.tangent = np.zeros((n, 3))
+        self.constants = node_constants(self.prev, self.seg, self.props)  # what each node stands for
+        self._no_waves = np.empty((0, WAVE_FIELDS))
         self._forces()
 
     def _forces(self):
-        line_forces(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
-                    self.current, self.seabed, self.sea, self.time, self.force, self.tension, self.added_mass)
-        node_tangents(self.x, self.prev, self.tangent)
+        line_forces(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.constants, self.kind,
+                    self.water, self.current, self.seabed, self.sea, self.time, self.force, self.tension,
+                    self.added_mass, self.tangent)
 
     def stable_step(self) -> float:
         """Stability limit of the node chain [s]: 1/sqrt(max k/m) (omega_max = 2 sqrt(k/m) for a chain),
@@ -127,13 +129,15 @@ class MooringLines:
         if waves is not None:
             wave0, wave1, a0, a1 = waves
         else:
-            n = len(self.x) if self.sea.amplitude.shape[0] > 0 else 0
-            wave0, wave1, a0, a1 = np.empty((n, WAVE_FIELDS)), np.empty((n, WAVE_FIELDS)), 0.0, 1.0
-            if n > 0:
+            wave0 = wave1 = self._no_waves  # still water
+            a0, a1 = 0.0, 1.0
+            if self.sea.amplitude.shape[0] > 0:
+                n = len(self.x)
+                wave0, wave1 = np.empty((n, WAVE_FIELDS)), np.empty((n, WAVE_FIELDS))
                 node_waves(self.sea, self.x, self.water.level, t0, t0 + nsub * dt, wave0, wave1)
-        advance_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
-                      self.current, self.seabed, wave0, wave1, float(a0), float(a1), self.force, self.tension,
-                      self.added_mass, self.tangent, fl, x0, x1, v1, dt, nsub)
+        advance_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.constants, self.kind,
+                      self.water, self.current, self.seabed, wave0, wave1, float(a0), float(a1), self.force,
+                      self.tension, self.added_mass, self.tangent, fl, x0, x1, v1, dt, nsub)
         self.time = t0 + dt * nsub
 
     def relax(self, *, tol: float = 1.0, max_time: float = 600.0, max_node_steps: float | None = None) -> int:
@@ -148,9 +152,9 @@ class MooringLines:
         self.current[:] = 0.0
         budget = MAX_RELAX_NODE_STEPS if max_node_steps is None else max_node_steps
         cap = max(1, min(int(min(max_time / dt, 1e18)), int(budget / len(self.x))))
-        steps = relax_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.kind, self.water,
-                            self.current, self.seabed, self.force, self.tension, self.added_mass, self.tangent, dt,
-                            cap, tol)
+        steps = relax_lines(self.x, self.v, self.mass, self.prev, self.seg, self.props, self.constants, self.kind,
+                            self.water, self.current, self.seabed, self.force, self.tension, self.added_mass,
+                            self.tangent, dt, cap, tol)
         self.current[:] = current
         self.v[:] = 0.0
         self._forces()

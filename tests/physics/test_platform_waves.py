@@ -347,8 +347,8 @@ def test_platform_interpolates_the_sea_within_its_bound():
             error = np.abs(interpolated[name] - _sea_at(sea, now[name], p.time, fields))
             assert (error <= (time_bound + place[:, None]) * np.maximum(amp0, amp1) + round_off).all(), name
         force = np.zeros((3, 3))
-        node_forces(line.x, line.v, line.mass, line.prev, line.seg, line.props, line.kind, line.water, line.current,
-                    line.seabed, interpolated["group0"], force, np.zeros(3), np.zeros(3))
+        node_forces(line.x, line.v, line.mass, line.prev, line.seg, line.props, line.constants, line.kind, line.water,
+                    line.current, line.seabed, interpolated["group0"], force, np.zeros(3), np.zeros(3), np.zeros((3, 3)))
         np.testing.assert_allclose(line.force[1], force[1], rtol=1e-12)
     assert worst > 0.1 * time_bound
     assert np.linalg.norm(body.x) > 0.1  # [m]: the box moved, the place error was tested
