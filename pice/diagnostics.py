@@ -100,6 +100,26 @@ def describe(sim) -> dict:
     return out
 
 
+def runaway(sim, i, ratio: float, nonfinite: bool):
+    """The InstabilityError of a runaway element ``i`` of this rank (None: another rank holds it),
+    naming the step, the element and the likely cause."""
+    from .errors import InstabilityError
+
+    c, p = sim.c, sim.p
+    if i is None:  # another rank holds the runaway element: it reports, we stop with it
+        return InstabilityError(f"unstable at step {c.step}: reported by another rank")
+    what = "a non-finite velocity (NaN/inf)" if nonfinite else f"a displacement of {ratio:.3g} radii in one step"
+    if sim.dt > sim.limit.stable:
+        cause = (f"run.dt = {sim.dt:.4g} s is above the stability limit {sim.limit.stable:.4g} s "
+                 f"({sim.limit.governed_by}); use dt = \"auto\"")
+    else:
+        cause = ("a force spike: overlapping elements in the initial geometry, a load too large for "
+                 "the elements, or a wall/contact stiffness far above the bond stiffness")
+    return InstabilityError(
+        f"unstable at step {c.step} (t = {c.time:.6g} s): element gid {int(p.gid[i])} at "
+        f"{np.array2string(p.x[i], precision=3)} m shows {what}; likely cause: {cause}")
+
+
 def _area(box) -> float:
     """Area [m^2] of (x0, y0, x1, y1)."""
     return (box[2] - box[0]) * (box[3] - box[1])

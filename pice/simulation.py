@@ -20,7 +20,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import diagnostics
-from .errors import InstabilityError
 from .io.output import refuse_outputs_beyond_run
 from .kernels.bonds import sync_mate_history
 from .kernels.integrate import drift, kick, max_step_displacement
@@ -35,7 +34,7 @@ from .physics.crushing import crushed_through, remove_elements
 from .physics.floe_system import floe_time_step
 from .physics.rigid_ice import rigid_pieces_from_job
 from .physics.hydro import GravityTerm, WaterTerm, heave_damping, water_from_job
-from .physics.timestep import choose_step, stable_step
+from .physics.timestep import sheet_time_step
 from .physics.walls import WallTerm
 from .scenes.level_ice import build_level_ice
 from .scenes.loads import apply_loads_and_fixes
@@ -161,40 +160,45 @@ class Simulation:
     def _time_step(self):
         if not self.has_sheet:  # floes and bodies alone: the floes' contact law sets the step
             return floe_time_step(self.job, self.floes)
-        p, b, law = self.p, self.bond, self.contact_law
-        push = self.job.ice.push
-        m, inertia = float(p.mass.min()), float(p.inertia[int(np.argmin(p.mass))])
-        # every structure's link to an element: (k_n, k_t [N/m], c_n [N s/m]), the element's own mass
-        links = [(r[0], r[1], 2.0 * r[2] * math.sqrt(m * r[0]))
-                 for r in ([tuple(w) for w in self.walls.params] if self.walls else []) + [tuple(h.law) for h in self.hulls]]
-        if push is not None and push.stiffness is not None:
-            links.append((push.stiffness, 0.0, 2.0 * push.damping_ratio * math.sqrt(m * push.stiffness)))
-        structure = tuple(max(link[k] for link in links) for k in range(3)) if links else None
-        stable, why = stable_step(mass=m, inertia=inertia, d=self.sheet.spacing,
-                                  n_layers=self.sheet.n_layers, bond=(b.kn, b.ks, b.kt, b.kb),
-                                  contact=(law.kn, law.kt), structure=structure, damping_ratio=b.damping_ratio,
-                                  contact_damping_ratio=law.zeta)
-        run = self.job.run
-        return choose_step(requested=run.dt, safety=run.dt_safety, stable=stable, governed_by=why,
-                           allow_unstable=run.allow_unstable_dt, source=self.job.source)
+        return sheet_time_step(self.job, self.p, self.sheet, self.bond, self.contact_law,
+                               self.walls.params if self.walls else [], [h.law for h in self.hulls])
 
     def broadcast_poses(self) -> None:
         """Rank 0's body poses (x, q, v, omega per body) onto every rank, and into the hull term."""
+        self.start_poses()
+        self.finish_poses()
+
+    def start_poses(self) -> None:
+        """Post the poses' broadcast (non-blocking): the bonds are computed while it travels, so the
+        other ranks need not wait for rank 0's platform step (``finish_poses`` receives it)."""
         poses = self.platform.poses() if self.platform is not None else np.zeros((len(self.hulls), 13))
-        self.poses = self.comm.bcast_array(poses)
-        self.hull_term.poses = self.poses
+        self._poses_pending = self.comm.start_bcast_array(poses)
+
+    def finish_poses(self) -> None:
+        if getattr(self, "_poses_pending", None) is not None:
+            self.poses = self.comm.finish_bcast_array(self._poses_pending)
+            self.hull_term.poses = self.poses
+            self._poses_pending = None
 
     # -- the step ------------------------------------------------------------------------------
     def compute_forces(self) -> None:
-        """Forces and torques at the current positions (half-step velocities for the rate terms)."""
+        """Forces and torques at the current positions (half-step velocities for the rate terms):
+        the terms on owned elements while the ghost update travels, then the bonds and contacts,
+        then the terms that read the body poses (``reads_poses``: the hulls) once they are here."""
         p = self.p
         p.force[:] = 0.0
         p.torque[:] = 0.0
-        for term in self.terms[self.n_ghost_terms:]:  # owned elements only: the ghost update travels
-            term.add_forces(p, self.c, self.dt)
+        owned = self.terms[self.n_ghost_terms:]
+        for term in owned:  # owned elements only: the ghost update travels
+            if not getattr(term, "reads_poses", False):
+                term.add_forces(p, self.c, self.dt)
         self.domain.finish_exchange(p)
         for term in self.terms[:self.n_ghost_terms]:  # bonds and contacts read the ghosts
             term.add_forces(p, self.c, self.dt)
+        self.finish_poses()
+        for term in owned:
+            if getattr(term, "reads_poses", False):
+                term.add_forces(p, self.c, self.dt)
         if self.floes is not None:  # every rank: the floes' forces and their loads on the bodies
             self.floes.compute_forces(self.poses, self.c.time, self.dt)
         if self.coupling is not None:
@@ -242,7 +246,7 @@ class Simulation:
         c.step += 1
         c.time = c.step * dt
         if self.hulls:
-            self.broadcast_poses()
+            self.start_poses()
         if self.has_sheet:
             self.domain.exchange(p, c.step)
         self.compute_forces()
@@ -283,7 +287,7 @@ class Simulation:
         c.step += 1
         c.time = c.step * dt
         if self.hulls:
-            self.broadcast_poses()
+            self.start_poses()
             lap("waiting")
         if self.has_sheet:
             self.domain.exchange(p, c.step, timers)  # laps "halo" and "waiting"
@@ -303,13 +307,21 @@ class Simulation:
         p.force[:] = 0.0
         p.torque[:] = 0.0
         lap("integration")
-        for term in self.terms[self.n_ghost_terms:]:
-            term.add_forces(p, self.c, self.dt)
-            lap(term_part(term))
+        owned = self.terms[self.n_ghost_terms:]
+        for term in owned:
+            if not getattr(term, "reads_poses", False):
+                term.add_forces(p, self.c, self.dt)
+                lap(term_part(term))
         self.domain.finish_exchange(p, self.timers)  # laps "waiting"
         for term in self.terms[:self.n_ghost_terms]:
             term.add_forces(p, self.c, self.dt)
             lap(term_part(term))
+        self.finish_poses()
+        lap("waiting")
+        for term in owned:
+            if getattr(term, "reads_poses", False):
+                term.add_forces(p, self.c, self.dt)
+                lap(term_part(term))
         if self.floes is not None:
             self.floes.compute_forces(self.poses, self.c.time, self.dt)
             lap("floes")
@@ -345,19 +357,7 @@ class Simulation:
             if timers is not None:
                 timers.lap("checks")
             return
-        if not bad:  # another rank holds the runaway element: it reports, we stop with it
-            raise InstabilityError(f"unstable at step {self.c.step}: reported by another rank")
-        what = "a non-finite velocity (NaN/inf)" if nonfinite else \
-            f"a displacement of {ratio:.3g} radii in one step"
-        if self.dt > self.limit.stable:
-            cause = (f"run.dt = {self.dt:.4g} s is above the stability limit {self.limit.stable:.4g} s "
-                     f"({self.limit.governed_by}); use dt = \"auto\"")
-        else:
-            cause = ("a force spike: overlapping elements in the initial geometry, a load too large for "
-                     "the elements, or a wall/contact stiffness far above the bond stiffness")
-        raise InstabilityError(
-            f"unstable at step {self.c.step} (t = {self.c.time:.6g} s): element gid {int(p.gid[i])} at "
-            f"{np.array2string(p.x[i], precision=3)} m shows {what}; likely cause: {cause}")
+        raise diagnostics.runaway(self, i if bad else None, ratio, nonfinite)
 
     def _remove_crushed(self, crushed) -> None:
         """Remove the elements crushed through on every rank (physics/crushing.py; collective)."""

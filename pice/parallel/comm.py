@@ -40,6 +40,12 @@ class SerialComm:
     def bcast_array(self, array):
         return array
 
+    def start_bcast_array(self, array):
+        return array
+
+    def finish_bcast_array(self, pending):
+        return pending
+
     def gather(self, obj):
         return [obj]
 
@@ -116,6 +122,17 @@ class MPIComm:
         """Rank 0's float64 array on every rank (in place on the others)."""
         array = np.ascontiguousarray(array, dtype=np.float64)
         self.comm.Bcast(array, root=0)
+        return array
+
+    def start_bcast_array(self, array):
+        """Post ``bcast_array`` without waiting (every rank passes an array of the shape, which must
+        stay untouched until ``finish_bcast_array``, which waits and returns rank 0's values)."""
+        array = np.ascontiguousarray(array, dtype=np.float64)
+        return self.comm.Ibcast(array, root=0), array
+
+    def finish_bcast_array(self, pending):
+        request, array = pending
+        request.Wait()
         return array
 
     def gather(self, obj):

@@ -88,6 +88,15 @@ class CountingComm:
         return self._call("bcast", 0, payload_bytes(np.asarray(array, dtype=np.float64)),
                           self.inner.bcast_array, array)
 
+    def start_bcast_array(self, array):
+        """The non-blocking broadcast, posted (kind "bcast"); its wait is ``finish_bcast_array``."""
+        return self._call("bcast", 0, payload_bytes(np.asarray(array, dtype=np.float64)),
+                          self.inner.start_bcast_array, array)
+
+    def finish_bcast_array(self, pending):
+        """The wait for a posted broadcast (kind "wait": its time is the waiting)."""
+        return self._call("wait", 0, 0, self.inner.finish_bcast_array, pending)
+
     def gather(self, obj):
         return self._call("gather", 0, payload_bytes(obj), self.inner.gather, obj)
 

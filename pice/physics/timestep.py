@@ -22,6 +22,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from .lattice_modes import exact_limit
 
 
@@ -81,3 +83,23 @@ def choose_step(*, requested, safety: float, stable: float, governed_by: str, al
                        "(run.allow_unstable_dt = true overrides, for testing only)")
     return StepLimit(stable=stable, chosen=float(requested), safety=float(requested) / stable,
                      governed_by=governed_by)
+
+
+def sheet_time_step(job, p, sheet, bond, law, walls, hulls) -> StepLimit:
+    """The step of a scene with a sheet: the limit of its lattice (``stable_step``) with every
+    structure's link to an element, walls' and hulls' (k_n, k_t [N/m], damping ratio) and the far
+    field's springs, taken on the lightest element; then ``choose_step`` with the job's run.dt."""
+    push = job.ice.push
+    m, inertia = float(p.mass.min()), float(p.inertia[int(np.argmin(p.mass))])
+    # every structure's link to an element: (k_n, k_t [N/m], c_n [N s/m]), the element's own mass
+    links = [(r[0], r[1], 2.0 * r[2] * math.sqrt(m * r[0])) 
+             for r in [tuple(w) for w in walls] + [tuple(h) for h in hulls]]
+    if push is not None and push.stiffness is not None:
+        links.append((push.stiffness, 0.0, 2.0 * push.damping_ratio * math.sqrt(m * push.stiffness)))
+    structure = tuple(max(link[k] for link in links) for k in range(3)) if links else None
+    stable, why = stable_step(mass=m, inertia=inertia, d=sheet.spacing, n_layers=sheet.n_layers,
+                              bond=(bond.kn, bond.ks, bond.kt, bond.kb), contact=(law.kn, law.kt),
+                              structure=structure, damping_ratio=bond.damping_ratio, contact_damping_ratio=law.zeta)
+    run = job.run
+    return choose_step(requested=run.dt, safety=run.dt_safety, stable=stable, governed_by=why,
+                       allow_unstable=run.allow_unstable_dt, source=job.source)

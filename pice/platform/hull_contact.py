@@ -172,6 +172,7 @@ class HullContactTerm:
     """
 
     name = "hull contact"
+    reads_poses = True  # computed after the bonds, so that the poses' broadcast travels meanwhile
 
     def __init__(self, hulls: list[Hull]):
         self.hulls = hulls

@@ -61,3 +61,33 @@ def test_wind_stress_term_changes_the_momentum_by_its_impulse():
     sim.advance(steps)
     momentum = (p.mass[:p.nlocal, None] * p.v[:p.nlocal]).sum(axis=0)
     assert momentum == pytest.approx(total * steps * sim.dt, rel=1e-9, abs=1e-9 * np.abs(total).max() * steps * sim.dt)
+
+
+def test_the_hull_term_waits_for_the_poses_after_the_bonds():
+    """The poses' broadcast is posted after the platform's step and received only after the bonds
+    and contacts: the other ranks compute their bonds while rank 0 steps the platform. Recorded on
+    the moored barge (tests/scenes.py): within a step, start of the broadcast, then the bonds, then
+    its wait, then the hull term."""
+    from scenes import barge_job, job_from_text
+
+    sim = Simulation(job_from_text(barge_job(mooring="dem")))
+    calls = []
+    comm = sim.comm
+    start, finish = comm.start_bcast_array, comm.finish_bcast_array
+
+    class Spy:
+        def __init__(self, term):
+            self.term, self.name = term, term.name
+            self.reads_poses = getattr(term, "reads_poses", False)
+
+        def add_forces(self, p, c, dt):
+            calls.append(self.name)
+            self.term.add_forces(p, c, dt)
+
+    sim.terms = [Spy(t) for t in sim.terms]
+    sim.comm = type("Recording", (), {"__getattr__": lambda _, k: getattr(comm, k),
+                                      "start_bcast_array": lambda _, a: calls.append("post poses") or start(a),
+                                      "finish_bcast_array": lambda _, q: calls.append("wait poses") or finish(q)})()
+    sim.advance(1)
+    assert calls.index("post poses") < calls.index("bonds") < calls.index("wait poses") < calls.index("hull contact")
+    assert "hull contact" in [t.name for t in sim.terms] and calls.count("hull contact") == 1
