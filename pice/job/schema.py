@@ -211,6 +211,11 @@ class ParallelSpec(Section):
     skin: quantity("m") = 0.3
     balance_every: Annotated[int, Field(ge=0)] = 500
     imbalance_threshold: quantity("", gt=1.0) = 1.05
+    # what the cuts even out (parallel/domain.py): the elements per rank, or each rank's measured
+    # busy time (its wall time outside waits on other ranks) since the last check; "time" follows
+    # the work a rank really does (rank 0's platform, a slower core) but makes the cuts, and so the
+    # round-off, depend on timing: a run is then not repeatable bit for bit
+    balance_by: Literal["elements", "time"] = "elements"
     domain: Optional[tuple[Vec2, Vec2]] = None
 
 

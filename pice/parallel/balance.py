@@ -1,4 +1,5 @@
-"""Load balance: move the cuts so every rank owns about the same number of particles."""
+"""Load balance: move the cuts so every rank owns about the same number of particles, or the same work
+(particles weighted by their rank's measured cost: parallel/domain.py, ``balance_by = "time"``)."""
 
 from __future__ import annotations
 
@@ -16,10 +17,12 @@ def imbalance(comm, nlocal: int) -> float:
     return most / (total / comm.size) if total else 1.0
 
 
-def rebalanced(comm, decomp: Decomposition, x: np.ndarray) -> Decomposition:
+def rebalanced(comm, decomp: Decomposition, x: np.ndarray, weight: float | None = None) -> Decomposition:
     """New cuts at the quantiles of the global particle distribution (histograms, no gather).
 
-    x: (nlocal, 3) owned positions [m]. Cost: two allreduces of BINS (and px * BINS) counts.
+    x: (nlocal, 3) owned positions [m]; weight: what each of this rank's particles counts for (its
+    measured cost, parallel/domain.py), None: 1 each. Cost: two allreduces of BINS (and px * BINS)
+    counts.
     """
     if comm.size == 1:
         return decomp
@@ -30,13 +33,14 @@ def rebalanced(comm, decomp: Decomposition, x: np.ndarray) -> Decomposition:
     pad = 1e-9 * max(1.0, float(np.abs(np.concatenate([lo, hi])).max()))
     x_edges = np.linspace(lo[0] - pad, hi[0] + pad, BINS + 1)
     y_edges = np.linspace(lo[1] - pad, hi[1] + pad, BINS + 1)
-    x_hist = comm.sum(np.histogram(x[:, 0], bins=x_edges)[0].astype(np.float64))
+    w = None if weight is None else np.full(len(x), float(weight))
+    x_hist = comm.sum(np.histogram(x[:, 0], bins=x_edges, weights=w)[0].astype(np.float64))
     px, py = decomp.px, decomp.py
     # x cuts first, then each column's y histogram under the new x cuts
     probe = balanced_from_histograms(px, 1, x_hist, x_edges, np.zeros((px, BINS)), y_edges)
     col = np.clip(np.searchsorted(probe.x_cuts, x[:, 0], side="right") - 1, 0, px - 1)
     y_hists = np.zeros((px, BINS))
     for c in range(px):
-        y_hists[c] = np.histogram(x[col == c, 1], bins=y_edges)[0]
+        y_hists[c] = np.histogram(x[col == c, 1], bins=y_edges, weights=None if w is None else w[col == c])[0]
     y_hists = comm.sum(y_hists)
     return balanced_from_histograms(px, py, x_hist, x_edges, y_hists, y_edges)

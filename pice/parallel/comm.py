@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import functools
 import os
+from time import perf_counter
 
 import numpy as np
 
@@ -21,6 +23,7 @@ class SerialComm:
 
     rank = 0
     size = 1
+    blocked = 0.0  # [s] never waits
 
     def sum(self, value):
         return value
@@ -78,6 +81,18 @@ class SerialComm:
         return None
 
 
+def _blocking(method):
+    """An MPIComm method that may wait for other ranks: its wall time is added to ``blocked`` [s]."""
+    @functools.wraps(method)
+    def timed(self, *args):
+        t0 = perf_counter()
+        try:
+            return method(self, *args)
+        finally:
+            self.blocked += perf_counter() - t0
+    return timed
+
+
 class MPIComm:
     """COMM_WORLD through mpi4py: numpy-buffer collectives for the step, pickled ones for set-up.
 
@@ -91,7 +106,9 @@ class MPIComm:
         self.comm = comm if comm is not None else MPI.COMM_WORLD
         self.rank = self.comm.Get_rank()
         self.size = self.comm.Get_size()
+        self.blocked = 0.0  # [s] of wall time inside calls that wait for other ranks (parallel/domain.py)
 
+    @_blocking
     def _reduce(self, value, op):
         if isinstance(value, np.ndarray):
             out = np.empty_like(value)
@@ -108,9 +125,11 @@ class MPIComm:
     def min(self, value):
         return self._reduce(value, self._MPI.MIN)
 
+    @_blocking
     def bcast(self, obj):
         return self.comm.bcast(obj, root=0)
 
+    @_blocking
     def reduce_sum(self, array):
         """Sum of a float64 array over ranks, on rank 0 (None elsewhere)."""
         array = np.ascontiguousarray(array, dtype=np.float64)
@@ -118,6 +137,7 @@ class MPIComm:
         self.comm.Reduce(array, out, op=self._MPI.SUM, root=0)
         return out
 
+    @_blocking
     def bcast_array(self, array):
         """Rank 0's float64 array on every rank (in place on the others)."""
         array = np.ascontiguousarray(array, dtype=np.float64)
@@ -130,14 +150,17 @@ class MPIComm:
         array = np.ascontiguousarray(array, dtype=np.float64)
         return self.comm.Ibcast(array, root=0), array
 
+    @_blocking
     def finish_bcast_array(self, pending):
         request, array = pending
         request.Wait()
         return array
 
+    @_blocking
     def gather(self, obj):
         return self.comm.gather(obj, root=0)
 
+    @_blocking
     def scatter(self, objs):
         """objs[k] of rank 0's list arrives on rank k (objs is ignored on the other ranks)."""
         return self.comm.scatter(objs if self.rank == 0 else None, root=0)
@@ -146,9 +169,11 @@ class MPIComm:
         """The mpi4py communicator object, for ``h5py.File(..., driver="mpio", comm=...)``."""
         return self.comm
 
+    @_blocking
     def alltoall(self, objs):
         return self.comm.alltoall(list(objs))
 
+    @_blocking
     def exchange_doubles(self, sendbuf, sendcounts):
         """Alltoallv of float64 blocks: block k of sendbuf (sendcounts[k] doubles) goes to rank k.
 
@@ -165,6 +190,7 @@ class MPIComm:
                             [recvbuf, (recvcounts, rdispl), D])
         return recvbuf, recvcounts
 
+    @_blocking
     def allgather_doubles(self, local):
         """Every rank's float64 vector ``local``, concatenated in rank order, on every rank (Allgatherv);
         returns (the concatenation, each rank's count)."""
@@ -188,12 +214,14 @@ class MPIComm:
         reqs += [self.comm.Isend([a, D], dest=int(r), tag=GHOST_TAG) for (r, _), a in zip(sends, sent)]
         return reqs, bufs, sent
 
+    @_blocking
     def finish_neighbour_exchange(self, pending):
         """Wait for a ``start_neighbour_exchange``; returns the received arrays, in ``recvs`` order."""
         reqs, bufs, _ = pending
         self._MPI.Request.Waitall(reqs)
         return bufs
 
+    @_blocking
     def barrier(self):
         self.comm.Barrier()
 

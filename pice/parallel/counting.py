@@ -49,6 +49,11 @@ class CountingComm:
         self.size = inner.size
         self.records: dict[tuple[str, str], list[float]] = {}
 
+    @property
+    def blocked(self) -> float:
+        """[s] waited inside the wrapped communicator (parallel/comm.py)."""
+        return self.inner.blocked
+
     def reset(self) -> None:
         """Forget every record (after set-up and warm-up, before the counted window)."""
         self.records = {}

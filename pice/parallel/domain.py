@@ -3,12 +3,17 @@
 The ice is cut in x-y into one subdomain per rank (decomposition.py). Each step the ghosts are
 refreshed (halo.py): their positions and velocities only, or a full migration and rebuild when some
 particle has moved half the skin (checked every few steps, as a bound on the motion allows); every
-``balance_every`` steps the cuts move when the ranks' particle counts drift apart (balance.py).
+``balance_every`` steps the cuts move when the ranks' particle counts drift apart (balance.py), or,
+with ``balance_by = "time"``, when their busy times do: each rank's wall time since the last check
+minus what it spent waiting inside MPI calls (``comm.blocked``, parallel/comm.py); its particles then
+weigh its busy time per particle, so the cuts even out the work. The first check after a start or a
+restart only starts the clock (it would count numba's compilation) and balances the elements.
 """
 
 from __future__ import annotations
 
 import logging
+from time import perf_counter
 
 import numpy as np
 
@@ -43,6 +48,7 @@ class Domain:
         self.decomp: Decomposition | None = None
         self.halo: Halo | None = None
         self.imbalance = 1.0
+        self._clock = None  # (wall time [s], comm.blocked [s]) at the last balance check (balance_by "time")
 
     def distribute(self, p) -> None:
         """Decompose the whole sheet ``p`` over the ranks, keep this rank's part, build the halo."""
@@ -94,18 +100,34 @@ class Domain:
             timers.lap("waiting")
 
     def rebalance(self, p, step: int) -> bool:
-        """Move the cuts if max/mean particles per rank exceeds the threshold; True if it did (and rebuilt)."""
-        self.imbalance = imbalance(self.comm, p.nlocal)
+        """Move the cuts if max/mean particles per rank (``balance_by = "time"``: busy time per rank)
+        exceeds the threshold; True if it did (and rebuilt)."""
+        busy = self._busy_time() if self.parallel.balance_by == "time" else None
+        weight, what = None, "particles"
+        if busy is None:
+            self.imbalance = imbalance(self.comm, p.nlocal)
+        else:
+            self.imbalance = self.comm.max(busy) / (self.comm.sum(busy) / self.comm.size)
+            weight, what = busy / max(p.nlocal, 1), "busy time"
         if self.imbalance <= self.parallel.imbalance_threshold:
             return False
-        self.decomp = rebalanced(self.comm, self.decomp, p.x[:p.nlocal])
+        before = self.imbalance
+        self.decomp = rebalanced(self.comm, self.decomp, p.x[:p.nlocal], weight)
         self.halo.decomp = self.decomp
         self.halo.rebuild(p)
-        after = imbalance(self.comm, p.nlocal)
+        self.imbalance = imbalance(self.comm, p.nlocal)
         if self.comm.rank == 0:
-            log.info("step %d: load balance %.3f -> %.3f (max/mean particles per rank)", step, self.imbalance, after)
-        self.imbalance = after
+            log.info("step %d: load balance of the %s %.3f; max/mean particles per rank now %.3f", step, what,
+                     before, self.imbalance)
+        if busy is not None:
+            self._busy_time()  # the next window starts after the rebuild
         return True
+
+    def _busy_time(self) -> float | None:
+        """This rank's busy time [s] since the last call (None at the first: the clock starts)."""
+        now = (perf_counter(), self.comm.blocked)
+        last, self._clock = self._clock, now
+        return None if last is None else (now[0] - last[0]) - (now[1] - last[1])
 
     def rebuild(self, p) -> None:
         """Migrate and rebuild the ghosts now (as a restart from a checkpoint of this step does)."""

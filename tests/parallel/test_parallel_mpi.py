@@ -94,3 +94,65 @@ def test_rank0_reduction_and_pose_broadcast(comm):
         assert total is None
     poses = np.arange(14.0).reshape(2, 7) if comm.rank == 0 else np.zeros((2, 7))
     assert np.array_equal(coupling.broadcast_poses(poses), np.arange(14.0).reshape(2, 7))
+
+
+def test_weighted_cuts_even_out_the_weight(comm):
+    """rebalanced() with each rank's particles weighing its cost: the cut moves to the weighted
+    quantile. A uniform 40 x 10 row of points cut at x = 20; rank 0's points weigh 3, rank 1's 1:
+    the total weight 3 * 200 + 200 = 800 splits at 400, i.e. at x = 20 * 400 / 600 = 13.3 m
+    (within a histogram bin of 40/1024 m and the points' 1 m spacing)."""
+    from pice.parallel.balance import rebalanced
+    from pice.parallel.decomposition import uniform
+
+    decomp = uniform(2, lo=(0.0, 0.0), hi=(40.0, 10.0))
+    gx, gy = np.meshgrid(np.arange(40) + 0.5, np.arange(10) + 0.5, indexing="ij")
+    pts = np.column_stack([gx.ravel(), gy.ravel(), np.zeros(gx.size)])
+    mine = pts[(pts[:, 0] < 20.0) == (comm.rank == 0)]
+    new = rebalanced(comm, decomp, mine, weight=3.0 if comm.rank == 0 else 1.0)
+    assert abs(new.x_cuts[1] - 40.0 / 3.0) <= 1.0
+    assert rebalanced(comm, decomp, mine).x_cuts[1] == pytest.approx(20.0, abs=1.0)  # unweighted: the middle
+
+
+class _SlowOnRankZero:
+    """A force term that does nothing but take 2 ms a step on rank 0: the work of a platform."""
+
+    name = "slow"
+
+    def __init__(self, rank):
+        self.rank = rank
+
+    def add_forces(self, p, c, dt):
+        if self.rank == 0:
+            import time
+
+            time.sleep(2e-3)
+
+
+def test_balance_by_time_gives_the_slow_rank_fewer_elements(comm):
+    """balance_by = "time": rank 0 takes 2 ms a step more (a sleeping term) than the ~0.1 ms of its
+    half of a 20 m x 10 m sheet (215 elements). The first check (step 10) only starts the clock;
+    each check after it weighs every element by its rank's busy time per element, and the cut
+    moves to the weighted median: with busy times B0 >> B1, rank 0 keeps k (B0 + B1) / (2 B0), about
+    half its k elements, per check (a damped step towards even busy times, which holds as the
+    sleep does not scale with k): 107 -> ~55 -> ~30 -> ~16 at steps 20, 30, 40. Checked: rank 0
+    at most 15 % of the elements at step 45, every element and bond kept. With balance_by =
+    "elements" the counts stay even (max 55 %)."""
+    def run(by):
+        job = parse_job({
+            "run": {"duration": 1.0},
+            "water": {"density": 1035.0},
+            "ice": {"length": 20.0, "width": 10.0, "density": 920.0},
+            "bond": TABLE4_BONDS,
+            "parallel": {"balance_every": 10, "balance_by": by},
+        })
+        sim = Simulation(job, comm=comm)
+        sim.terms.append(_SlowOnRankZero(comm.rank))
+        n0, b0 = comm.sum(sim.p.nlocal), comm.sum(sim.p.bond_count())
+        sim.advance(45)
+        assert comm.sum(sim.p.nlocal) == n0 and comm.sum(sim.p.bond_count()) == b0
+        return comm.bcast(comm.gather(sim.p.nlocal)), n0
+
+    (counts, n0) = run("time")
+    assert counts[0] <= 0.15 * n0, counts
+    (counts, n0) = run("elements")
+    assert max(counts) <= 0.55 * n0, counts
