@@ -21,6 +21,7 @@ from ..errors import PiceError
 from ..kernels.bonds import sync_mate_history
 from ..kernels.halo import (GHOST_DOUBLES, longest_bond, motion_bounds, pack_kinematics,
                             resolve_bond_partners, unpack_kinematics)
+from ..state import PER_PARTICLE
 from .decomposition import Decomposition
 
 #: at most this many steps [-] between two rebuild checks, whatever the bound allows
@@ -61,6 +62,31 @@ def steps_to_next_check(budget: float, speed: float, accel: float, dt: float,
     return int(max(1, min(cap, 1 + unchecked)))
 
 
+class _MergedRows:
+    """The owned rows a rebuild is about to lay out (kept rows of ``p`` and arrivals, in gid order),
+    read without making them: ``take(idx)`` copies the rows ``idx`` of that layout."""
+
+    def __init__(self, p, keep, keep_to, arrivals, arrive_to, nlocal):
+        self.p, self.arrivals = p, arrivals
+        self.from_kept = np.full(nlocal, -1, np.int64)
+        self.from_kept[keep_to] = keep
+        self.from_arrivals = np.full(nlocal, -1, np.int64)
+        self.from_arrivals[arrive_to] = np.arange(len(arrive_to))
+
+    def take(self, idx: np.ndarray) -> dict[str, np.ndarray]:
+        kept = self.from_kept[idx]
+        if self.arrivals is None or bool(np.all(kept >= 0)):
+            return self.p.rows(kept)
+        out = {}
+        came = kept < 0
+        for name, cur in ((name, getattr(self.p, name)) for name in PER_PARTICLE):
+            rows = np.empty((len(idx), *cur.shape[1:]), dtype=cur.dtype)
+            rows[~came] = cur[kept[~came]]
+            rows[came] = self.arrivals[name][self.from_arrivals[idx[came]]]
+            out[name] = rows
+        return out
+
+
 class GhostWidthError(PiceError):
     """A bond is longer than the halo can see: continuing would silently lose a partner."""
 
@@ -94,29 +120,29 @@ class Halo:
             owner = self.decomp.owner(p.x[:n, 0], p.x[:n, 1])
             mine = owner == comm.rank
             leaving = not mine.all()
-            # kept in place, not sent to ourselves (views of the owned rows when nobody leaves)
-            stay = p.rows(np.nonzero(mine)[0]) if leaving else p.rows(slice(0, n))
+            keep = np.nonzero(mine)[0] if leaving else np.arange(n)
             outgoing = [p.rows(np.nonzero(owner == r)[0]) if r != comm.rank and leaving else None
                         for r in range(comm.size)]
             incoming = comm.alltoall(outgoing)
-            local = [stay] + [blk for r, blk in enumerate(incoming)
-                              if r != comm.rank and blk is not None and len(blk["gid"])]
-            # owned particles in gid order: the layout is then the same whatever the history (rows
-            # already in order, nobody arriving, are kept as they are: no copy, no reorder)
-            merged = stay
-            if len(local) > 1:
-                merged = {k: np.concatenate([blk[k] for blk in local]) for k in local[0]}
-            order = np.argsort(merged["gid"], kind="stable")
-            if len(local) > 1 or np.any(order != np.arange(len(order))):
-                merged = {k: v[order] for k, v in merged.items()}
-            nlocal = len(merged["gid"])
-            targets = self._ghost_targets(merged["x"])
+            blocks = [blk for r, blk in enumerate(incoming) if r != comm.rank and blk is not None and len(blk["gid"])]
+            arrivals = {k: np.concatenate([blk[k] for blk in blocks]) for k in blocks[0]} if blocks else None
+            # owned particles in gid order: the layout is then the same whatever the history. Where
+            # each kept and each arriving row goes (the inverse of the stable sort of their gids)
+            gids = p.gid[keep] if arrivals is None else np.concatenate([p.gid[keep], arrivals["gid"]])
+            nlocal = len(gids)
+            dest = np.empty(nlocal, np.int64)
+            dest[np.argsort(gids, kind="stable")] = np.arange(nlocal)
+            keep_to, arrive_to = dest[:len(keep)], dest[len(keep):]
+            x = np.empty((nlocal, 3))
+            x[keep_to] = p.x[keep]
+            if arrivals is not None:
+                x[arrive_to] = arrivals["x"]
+            targets = self._ghost_targets(x)
             self.send_idx = targets
-            ghost_blocks = comm.alltoall([{k: v[idx] for k, v in merged.items()} if len(idx) else None
-                                          for idx in targets])
+            rows = _MergedRows(p, keep, keep_to, arrivals, arrive_to, nlocal)
+            ghost_blocks = comm.alltoall([rows.take(idx) if len(idx) else None for idx in targets])
             self.recv_counts = [len(b["gid"]) if b is not None else 0 for b in ghost_blocks]
-            ghost_blocks = [b for b in ghost_blocks if b is not None]
-            p.replace_rows([merged] + ghost_blocks, nlocal)
+            p.place_rows(keep, keep_to, arrivals, arrive_to, nlocal, [b for b in ghost_blocks if b is not None])
         self.resolve(p)
         self.x_ref = p.x[:p.nlocal].copy()
         self.skip = 0  # check at the next exchange: the schedule restarts from every rebuild (and restart)

@@ -51,11 +51,14 @@ def test_groups_of_one_give_each_variant_as_run_alone(tmp_path):
     assert [r["variant"] for r in rows] == [0, 1, 2, 3] and all(r["error"] is None for r in rows)
     assert {r["group"] for r in rows} == {0, 1} and all(r["ranks"] == 1 for r in rows)
     # the busy fraction (issue 16): each group's time in its variants over the study's wall time; the
-    # sum of the groups' variant times bounds it, and the two groups overlap in time
+    # sum of the groups' variant times bounds it, and the two groups run variants at the same time
+    # (two rows of different groups overlap in [began, ended]; their total exceeding the elapsed
+    # time, as this once asked, fails on a loaded machine where a variant's set-up dominates)
     busy = study["busy"]
     assert len(busy["groups"]) == 2 and all(0.0 < b <= 1.0 for b in busy["groups"])
     assert busy["overall"] == pytest.approx(sum(r["busy_time"] for r in rows) / (2 * busy["elapsed"]), rel=1e-12)
-    assert sum(r["busy_time"] for r in rows) > busy["elapsed"]
+    assert any(a["group"] != b["group"] and a["began"] < b["ended"] and b["began"] < a["ended"]
+               for a in rows for b in rows)
     for r in rows:
         alone = base / f"alone_{r['variant']}.h5"
         run_job(load_job(r["toml"]), output=str(alone), progress=None, comm=SerialComm(), base_dir=out)
