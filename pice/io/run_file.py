@@ -3,7 +3,7 @@
 Layout::
 
     /                 attrs: job_text, job_source, pice_version, ranks, units, started, status
-    /series/<name>    one row per recorded step (resizable, written in blocks of SERIES_BLOCK rows)
+    /series/<name>    one row per recorded step (resizable; io/series_rows.py)
     /snapshots/NNNNN  attrs time, step; datasets gid, x, v, w, radius, kind, crush_depth (the largest
                       plastic penetration of the element's contacts, m), bonds (m,2 gids)
                       [+ point_index, bond_index when the gids are not 0..n-1: xdmf.point_index_arrays]
@@ -13,9 +13,8 @@ Layout::
     /events/broken_bonds  (k,5) float64 rows: step, time, gid_a, gid_b, mode (1 tension/bending,
                           2 shear/twist, 3 compression, 4 crushed through: kernels.bonds)
 
-Series rows are written in blocks (RunFile.append_series) and everything held is written before a
-snapshot, a checkpoint and the close, so a run that stops keeps everything recorded until then.
-During a run io/output.py drives this writer; io/run_reader.py reads the file back.
+A run that stops keeps every row (RunFile.append_series). During a run io/output.py drives this
+writer; io/run_reader.py reads the file back.
 
 Parallel runs write the same file in one of two modes (io/mpio.py): every rank through h5py's
 ``mpio`` driver when h5py has MPI, else rank 0 alone from gathered arrays. A write that fails (a
@@ -42,6 +41,7 @@ from . import disk
 from .xdmf import point_index_arrays
 from .errors import OutputError
 from .mpio import RUNS_DIRECT, count_runs, placement, to_blocks, write_rows
+from .series_rows import append_rows, drop_after, write_extras
 
 UNITS = "SI: m, s, kg, N, N m, J, Pa; angles in rad"
 SERIES_BLOCK = 64   # series rows held before they are written together (RunFile.append_series)
@@ -179,13 +179,10 @@ class RunFile:
     # -- writing --
 
     def append_series(self, row: dict) -> None:
-        """Append one row; each key becomes /series/<key> with shape (rows, *value.shape).
-
-        Rows are held and written SERIES_BLOCK at a time (one resize, write and flush per dataset for
-        the block; row by row they cost ~9 ms each on the buoy's 40 series, a fifth of its step), and
-        whatever is held is written before every snapshot, checkpoint flush and close, so a run that
-        fails or stops keeps every row; a killed one loses at most the rows after its last
-        checkpoint, which its restart records again anyway (open_for_restart)."""
+        """Append one row; each key becomes /series/<key> with shape (rows, *value.shape). Rows are held
+        and written SERIES_BLOCK at a time (row by row: ~9 ms each on the buoy's 40 series), and before
+        every snapshot, checkpoint and close: a run that fails or stops keeps every row; a killed one
+        loses only rows after its last checkpoint, which its restart records again."""
         self._pending.append(row)  # mpio mode: every rank appends (rank 0's rows count), so all agree
         if len(self._pending) >= SERIES_BLOCK:
             self.write_series()
@@ -201,23 +198,7 @@ class RunFile:
         first = self.rows
 
         def write():
-            keys = list(dict.fromkeys(key for row in rows for key in row))
-            for key in keys:
-                present = [(k, row[key]) for k, row in enumerate(rows) if key in row]
-                shape = present[0][1].shape
-                if key not in self.series:
-                    self.series.create_dataset(key, shape=(0, *shape), maxshape=(None, *shape),
-                                               dtype="f8", chunks=(256, *shape) if all(shape) else True)
-                ds = self.series[key]
-                last = first + present[-1][0] + 1
-                ds.resize(last, axis=0)
-                if self.rank != 0:
-                    continue
-                if len(present) == len(rows):  # the usual case: every row has every key
-                    ds[first:last] = np.stack([value for _, value in present])
-                else:
-                    for k, value in present:
-                        ds[first + k] = value
+            append_rows(self.series, rows, first, values=self.rank == 0)
 
         what = f"series rows {first}-{first + len(rows) - 1}"
         # the block may start a new 256-row chunk in every dataset
@@ -306,7 +287,7 @@ class RunFile:
                     mine = self.rank == 0
                     write_rows(ds, np.arange(shape[0] if mine else 0),
                                extra[name] if mine else np.zeros((0, *shape[1:]), dtype=np.dtype(dt)))
-            _write_extras(g, extras, self.rank == 0)
+            write_extras(g, extras, self.rank == 0)
 
         need = 2 * disk.nbytes(*fields.values())
         need = int(self.comm.sum(float(need)))
@@ -325,7 +306,7 @@ class RunFile:
         g["bonds"] = bonds
         for name, data in point_index_arrays(arrays["gid"][order], bonds).items():
             g[name] = data
-        _write_extras(g, extras, True)
+        write_extras(g, extras, True)
 
     @classmethod
     def open_for_restart(cls, path: str | os.PathLike, *, step: int, job=None, ranks: int = 1,
@@ -352,20 +333,7 @@ class RunFile:
             self.h5.create_dataset("events/broken_bonds", shape=(0, 5), maxshape=(None, 5), dtype="f8",
                                    chunks=(1024, 5))
         self.events = self.h5["events/broken_bonds"]
-        rows = min((ds.shape[0] for ds in self.series.values()), default=0)
-        if "step" in self.series:  # steps increase row by row
-            rows = int(np.searchsorted(self.series["step"][:rows], step, side="right"))
-        for ds in self.series.values():
-            ds.resize(rows, axis=0)
-        self.rows = rows
-        events = self.events[()]
-        keep = events[:, 0] <= step
-        if not keep.all():
-            self.events.resize(int(keep.sum()), axis=0)
-            self.events[:] = events[keep]
-        for name in list(self.snapshots):
-            if self.snapshots[name].attrs.get("step", np.inf) > step:
-                del self.snapshots[name]
+        self.rows = drop_after(self.series, self.events, self.snapshots, step)
         a = self.h5.attrs
         a["status"] = "running"
         a["ranks"] = ranks
@@ -424,11 +392,4 @@ class RunFile:
 _PARTICLE_FIELDS = ("gid", "x", "v", "w", "radius", "kind", "crush_depth")
 
 
-def _write_extras(g: h5py.Group, extras: dict | None, mine: bool) -> None:
-    """Rank 0's small arrays into snapshot group ``g`` (in mpio mode every rank creates them)."""
-    for name, value in (extras or {}).items():
-        value = np.asarray(value)
-        ds = g.create_dataset(name, shape=value.shape, dtype=value.dtype)
-        if mine and value.size:
-            ds[...] = value
 _ABANDONED: list = []   # files dropped by RunFile.abandon (see there)
