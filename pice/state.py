@@ -34,6 +34,15 @@ PER_PARTICLE = ("gid", "x", "v", "w", "radius", "mass", "inertia", "kind", "volu
                 "force", "torque")
 
 
+ROW_HEADROOM = 1.1  # rows a rebuild allocates per row it needs (Particles.place_rows)
+
+
+def _prefix_of(array: np.ndarray, buf: np.ndarray | None) -> bool:
+    """Is ``array`` the first rows of ``buf`` (a view that place_rows made and nobody replaced)?"""
+    return (buf is not None and array.base is buf
+            and array.__array_interface__["data"][0] == buf.__array_interface__["data"][0])
+
+
 @dataclass
 class Particles:
     """All per-particle arrays of one rank. The first ``nlocal`` entries are owned; the rest are ghosts."""
@@ -115,19 +124,26 @@ class Particles:
         owned rows ``keep`` of the current arrays going to rows ``keep_to``, the ``arrivals``' rows
         to ``arrive_to`` (0..nlocal-1 between them), then the ``ghosts`` blocks in order. A halo
         rebuild that migrates a row of elements copied the 1.6 kB of each of its 46,000 rows four
-        times (parallel/halo.py): once now."""
+        times (parallel/halo.py): once now. The arrays are the first rows of buffers ROW_HEADROOM
+        longer, so that a rebuild where nobody leaves or arrives writes the ghosts only."""
         identity = arrivals is None and len(keep) == nlocal and bool(np.all(keep_to == keep)) \
             and bool(np.all(keep == np.arange(nlocal)))
-        nghost = sum(len(g["gid"]) for g in ghosts)
+        total = nlocal + sum(len(g["gid"]) for g in ghosts)
+        buffers = self.__dict__.setdefault("_buffers", {})  # name -> the array the rows are a prefix of
         for name in PER_PARTICLE:
-            cur = getattr(self, name)
-            out = np.empty((nlocal + nghost, *cur.shape[1:]), dtype=cur.dtype)
-            if identity:
-                out[:nlocal] = cur[:nlocal]
+            cur, buf = getattr(self, name), buffers.get(name)
+            if identity and _prefix_of(cur, buf) and len(buf) >= total:
+                out = buf[:total]  # the owned rows stay where they are: only the ghosts are written
             else:
-                out[keep_to] = cur[keep]
-                if arrivals is not None:
-                    out[arrive_to] = arrivals[name]
+                buf = np.empty((int(ROW_HEADROOM * total) + 16, *cur.shape[1:]), dtype=cur.dtype)
+                buffers[name] = buf
+                out = buf[:total]
+                if identity:
+                    out[:nlocal] = cur[:nlocal]
+                else:
+                    out[keep_to] = cur[keep]
+                    if arrivals is not None:
+                        out[arrive_to] = arrivals[name]
             at = nlocal
             for g in ghosts:
                 out[at:at + len(g["gid"])] = g[name]
