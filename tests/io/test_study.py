@@ -109,6 +109,19 @@ def test_bad_input_is_one_line_exit_2_and_nothing_runs(tmp_path, capsys, monkeyp
     assert not out.exists()
 
 
+def test_a_job_without_vary_is_one_line_exit_2(tmp_path, capsys, monkeypatch):
+    """`pice study JOB` with nothing to vary (and not a sweep file): one line naming --vary and the
+    sweep file, exit status 2, nothing run and no study folder."""
+    import pice.runner
+
+    monkeypatch.setattr(pice.runner, "run_job", lambda *a, **k: (_ for _ in ()).throw(AssertionError("ran")))
+    job = write(tmp_path, WALL_JOB)
+    assert main(["study", str(job), "--out", str(tmp_path / "study")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--vary" in err[0] and "sweep file" in err[0], err
+    assert not (tmp_path / "study").exists()
+
+
 # -- metrics of a run file ------------------------------------------------------------------------
 
 def hand_made_run(path: pathlib.Path, *, peaks: bool = True) -> pathlib.Path:
