@@ -303,6 +303,13 @@ def _without_overlaps(floes, field, thickness, base, spec, law, fw, body_pieces,
     return out
 
 
+def contact_steps(law, m: float, fraction: float) -> tuple[float, float]:
+    """(the stability limit [s] of the lightest contact: two pieces of mass m [kg], or one against a
+    structure; ``fraction`` of that pair's contact time m_eff / c_n [s], inf without a dashpot)."""
+    stable = min(contact_step_limit(law, 0.5 * m), contact_step_limit(law, m))
+    return stable, (fraction * 0.5 * m / law.cn if law.cn > 0 else math.inf)
+
+
 def floe_time_step(job, system: FloeSystem | None) -> StepLimit:
     """The step of a scene without level ice: the floes' contact law sets it. The stability limit is
     that of the lightest contact (two of the smallest floes; one against a structure); "auto" takes
@@ -318,15 +325,12 @@ def floe_time_step(job, system: FloeSystem | None) -> StepLimit:
                            "give run.dt [s] (the bodies' motions are slow: 0.01 s is typical)")
         return StepLimit(stable=math.inf, chosen=float(run.dt), safety=0.0, governed_by="given (no ice)")
     law, m = system.f.law, float(system.f.mass.min())
-    pair = contact_step_limit(law, 0.5 * m)
-    structure = contact_step_limit(law, m)
-    stable = min(pair, structure)
+    key, fraction = ("floes", job.floes.step_fraction) if job.floes is not None else ("keel", job.keel.step_fraction)
+    stable, accurate = contact_steps(law, m, fraction)
     limit = choose_step(requested=run.dt, safety=run.dt_safety, stable=stable,
                         governed_by=f"floe contact, k_n {law.kn:.3g} N/m, c_n {law.cn:.3g} N s/m, m_eff {0.5 * m:.4g} kg",
                         allow_unstable=run.allow_unstable_dt, source=job.source)
     if run.dt == "auto":
-        key, fraction = ("floes", job.floes.step_fraction) if job.floes is not None else ("keel", job.keel.step_fraction)
-        accurate = fraction * 0.5 * m / law.cn if law.cn > 0 else math.inf
         if accurate < limit.chosen:
             return StepLimit(stable=stable, chosen=accurate, safety=accurate / stable,
                              governed_by=f"{key}.step_fraction {fraction:g} of the contact time "

@@ -25,8 +25,8 @@ import numpy as np
 from ..errors import JobError
 from ..kernels.geometry import quat_mul
 from ..scenes.rubble import inside_keel, porosity, release_blocks
-from .floe_system import FloeSystem, add_body_structures
-from .floes import FloeLaw, Floes, FloeWater, contact_step_limit
+from .floe_system import FloeSystem, add_body_structures, contact_steps
+from .floes import FloeLaw, Floes, FloeWater
 
 log = logging.getLogger("pice")
 
@@ -89,10 +89,7 @@ def keel_walls(floes: Floes, keel, *, generation: bool = False) -> None:
 def keel_step(keel, floes: Floes) -> float:
     """The time step [s]: keel.step_fraction of the contact time m_eff / c_n of the two lightest blocks,
     within the contact's stability limit."""
-    m = float(floes.mass.min())
-    law = floes.law
-    stable = min(contact_step_limit(law, 0.5 * m), contact_step_limit(law, m))
-    accurate = keel.step_fraction * 0.5 * m / law.cn if law.cn > 0 else math.inf
+    stable, accurate = contact_steps(floes.law, float(floes.mass.min()), keel.step_fraction)
     return min(0.5 * stable, accurate)
 
 
