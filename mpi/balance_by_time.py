@@ -2,7 +2,7 @@
 ([parallel] balance_by, parallel/domain.py): step time, each rank's busy and waiting time, and
 the elements each rank owns, measured in one launch (the two settings alternate, ``--rounds``).
 
-    mpiexec -n 2 python mpi/balance_by_time.py [--steps 500] [--every 100] [--rounds 2]
+    mpiexec -n 2 python mpi/balance_by_time.py [--steps 500] [--every 100] [--rounds 2] [--threshold 1.05]
 
 Each setting starts from the same sheet (pice/bench/sheet.py), takes ``--settle`` steps in which
 the cuts may move every ``--every`` steps (the first check only starts the busy clock), then a
@@ -21,7 +21,8 @@ from pice.parallel.comm import world
 def window(by: str, args, comm) -> dict:
     sim, _ = reference_sheet(length=args.length, width=args.width, comm=comm)
     d = sim.domain
-    d.parallel = d.parallel.model_copy(update={"balance_by": by, "balance_every": args.every})
+    d.parallel = d.parallel.model_copy(update={"balance_by": by, "balance_every": args.every,
+                                               "imbalance_threshold": args.threshold})
     sim.advance(args.settle)
     d.parallel = d.parallel.model_copy(update={"balance_every": 0})  # the cuts stay for the window
     comm.barrier()
@@ -39,6 +40,7 @@ def main() -> None:
     ap.add_argument("--settle", type=int, default=600, help="steps before the window, the cuts free to move")
     ap.add_argument("--every", type=int, default=100, help="balance_every during --settle")
     ap.add_argument("--rounds", type=int, default=2, help="windows of each setting, alternating")
+    ap.add_argument("--threshold", type=float, default=1.05, help="[parallel] imbalance_threshold during --settle")
     ap.add_argument("--length", type=float, default=400.0)
     ap.add_argument("--width", type=float, default=200.0)
     args = ap.parse_args()
