@@ -26,6 +26,13 @@ def comm():
     return c
 
 
+def _small_sheet(parallel: dict):
+    """A 20 m x 10 m sheet of 1 m elements at rest in water (215 elements), with ``parallel``."""
+    return parse_job({"run": {"duration": 1.0}, "water": {"density": 1035.0},
+                      "ice": {"length": 20.0, "width": 10.0, "density": 920.0}, "bond": TABLE4_BONDS,
+                      "parallel": parallel})
+
+
 def _owned_gids(sim):
     parts = sim.comm.gather(sim.p.gid[:sim.p.nlocal].copy())
     return sim.comm.bcast(None if parts is None else np.concatenate(parts))
@@ -62,13 +69,7 @@ def test_drifting_sheet_keeps_every_particle_and_bond(comm):
 
 def test_sheet_inside_one_subdomain_gets_balanced(comm):
     """All ice starts in rank 0's half of the domain; after rebalancing max/mean <= 1.1."""
-    job = parse_job({
-        "run": {"duration": 1.0},
-        "water": {"density": 1035.0},
-        "ice": {"length": 20.0, "width": 10.0, "density": 920.0},
-        "bond": TABLE4_BONDS,
-        "parallel": {"domain": [[0.0, 0.0], [100.0, 10.0]], "balance_every": 10},
-    })
+    job = _small_sheet({"domain": [[0.0, 0.0], [100.0, 10.0]], "balance_every": 10})
     sim = Simulation(job, comm=comm)
     n0 = comm.sum(sim.p.nlocal)
     assert comm.max(sim.p.nlocal) == n0  # everything on one rank at the start
@@ -138,13 +139,7 @@ def test_balance_by_time_gives_the_slow_rank_fewer_elements(comm):
     at most 15 % of the elements at step 45, every element and bond kept. With balance_by =
     "elements" the counts stay even (max 55 %)."""
     def run(by):
-        job = parse_job({
-            "run": {"duration": 1.0},
-            "water": {"density": 1035.0},
-            "ice": {"length": 20.0, "width": 10.0, "density": 920.0},
-            "bond": TABLE4_BONDS,
-            "parallel": {"balance_every": 10, "balance_by": by},
-        })
+        job = _small_sheet({"balance_every": 10, "balance_by": by})
         sim = Simulation(job, comm=comm)
         sim.terms.append(_SlowOnRankZero(comm.rank))
         n0, b0 = comm.sum(sim.p.nlocal), comm.sum(sim.p.bond_count())
