@@ -339,6 +339,28 @@ def build_platform(job, hulls: list[Hull]) -> Platform:
         body.x = poses[k, :3].copy()
         body.q = poses[k, 3:7].copy()
         bodies.append(body)
+    _warn_unbalanced(job, groups, bodies, pull)
     platform = Platform(bodies, rho_w=w.density, g=g, level=w.level, current=w.current, groups=groups, sea=sea)
     platform.loads()  # gravity, buoyancy and the lines' pull at t = 0: the first half kick's loads
     return platform
+
+
+UNBALANCED_PULL = 0.01  # a free body's lines whose horizontal pull exceeds this fraction of their tension: warned
+
+
+def _warn_unbalanced(job, groups: list[MooringGroup], bodies: list[RigidBody], pull: np.ndarray) -> None:
+    """Warn of a free body whose lines pull it sideways at t = 0 (one chain, an uneven spread): it
+    does not start at rest but moves towards its anchors before anything else acts on it."""
+    tension = np.zeros(len(bodies))
+    for grp in groups:
+        reactions = np.linalg.norm(grp.lines.reactions(grp.lines.fairleads), axis=1)
+        for a in grp.attachments:
+            tension[a.body] += reactions[a.line]
+    for k, body in enumerate(bodies):
+        sideways = float(np.hypot(pull[k, 0], pull[k, 1]))
+        if body.free and sideways > UNBALANCED_PULL * tension[k] > 0.0:
+            log.warning("bodies[%d] (%s): its lines pull it %.4g N sideways at t = 0 (%.0f %% of their %.4g N of "
+                        "tension), which nothing balances: it moves towards its anchors before any other load "
+                        "acts. To start it at rest, spread its lines so that their pulls cancel "
+                        "(moorings.headings), as a catenary mooring is laid out", k, job.bodies[k].name, sideways,
+                        100.0 * sideways / tension[k], tension[k])
