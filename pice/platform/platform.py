@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .attachment_kernels import add_line_pull, fairlead_kinematics
+from .fused_step import FusedStep
 from .hull_waves import wave_points
 from .rigid_body import RigidBody
 from .sea import sea_components
@@ -92,6 +93,8 @@ class Platform:
         self.wave_intervals = WaveIntervals(self.sea) if self.sea is not None else None
         self.ice = np.zeros((len(bodies), 6))
         self.mooring_force = np.zeros((len(bodies), 3))  # pull of all lines on each body [N]
+        # one free body on DEM lines in still water: three compiled calls a step (fused_step.py)
+        self.fused = FusedStep(self) if FusedStep.applies(self) else None
 
     @property
     def moorings(self):
@@ -123,6 +126,9 @@ class Platform:
 
     # -- the step ------------------------------------------------------------------------------
     def kick(self, half_dt: float) -> None:
+        if self.fused is not None:
+            self.fused.kick(half_dt)
+            return
         for b in self.bodies:
             b.kick(half_dt, self.time)
 
@@ -130,6 +136,9 @@ class Platform:
         """Move the bodies by dt and sub-step the lines with their fairleads following the hulls. In
         waves the sea's sums are taken first when this step starts an interval (``wave_points``, at
         the poses and nodes of now), and the lines interpolate them over the step."""
+        if self.fused is not None:
+            self.fused.drift(dt)
+            return
         waves = self.wave_intervals
         if waves is not None:
             waves.begin_step(dt, self.time, self.wave_points)
@@ -178,6 +187,9 @@ class Platform:
         gravity, damping, current and the mooring lines' pull at the fairleads."""
         if ice is not None:
             self.ice = np.asarray(ice, float).reshape(len(self.bodies), 6)
+        if self.fused is not None:
+            self.fused.loads(self.ice, self.mooring_force)
+            return
         for k, b in enumerate(self.bodies):
             if not b.free:  # a prescribed body moves as told: its loads drive nothing (the ice load
                 continue    # and the lines' pull are reported from self.ice and the lines)

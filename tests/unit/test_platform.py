@@ -68,6 +68,50 @@ def test_moored_platform_at_rest_stays_put():
     np.testing.assert_allclose(p.fairlead_tensions(), 221.7e3, rtol=0.01)
 
 
+@pytest.mark.parametrize("restart", [False, True])
+def test_the_fused_step_gives_the_general_paths_bits(restart):
+    """platform/fused_step.py: one free body on DEM lines in still water, stepped by three compiled
+    calls, gives the general path's bits (the same arithmetic in the same order): the body, the lines
+    and the lines' pull after 300 steps of a changing ice load, also across a set_state halfway (a
+    restart: it gives the body new arrays, which the fused step must notice)."""
+    fused, b1 = moored_semi()
+    general, b2 = moored_semi()
+    assert fused.fused is not None
+    general.fused = None
+    dt, rng = 2.6e-4, np.random.default_rng(3)
+    for p in (fused, general):
+        p.loads()
+    for step in range(300):
+        ice = np.concatenate([rng.normal((1e7, 0.0, 0.0), 2e6), rng.normal(0.0, 2e7, 3)]).reshape(1, 6)  # [N], [N m]
+        for p in (fused, general):
+            p.kick(0.5 * dt)
+            p.drift(dt)
+            p.loads(ice)
+            p.kick(0.5 * dt)
+        if restart and step == 150:
+            fused.set_state(fused.state())
+    assert np.linalg.norm(b1.x - CG) > 1e-4  # the ice moved it
+    one, other = fused.state(), general.state()
+    assert one.keys() == other.keys()
+    for key, value in other.items():
+        assert np.array_equal(one[key], value), key
+    assert np.array_equal(fused.mooring_force, general.mooring_force)
+    assert np.array_equal(fused.fairlead_tensions(), general.fairlead_tensions())
+
+
+def test_the_fused_step_is_taken_only_where_it_applies():
+    """Two bodies, a prescribed body or waves take the general path (Platform.fused is None)."""
+    from pice.physics.waves import Sea
+
+    p, b = moored_semi()
+    assert p.fused is not None
+    v, t = box(10.0, 8.0, 4.0)
+    pushed = RigidBody("ship", 1e6, np.ones(3), v, t, prescribed=np.array([[0.0, 1.0, 0, 0, 0, 0, 0]]))
+    assert Platform([pushed], rho_w=1025.0, g=9.81, level=0.0).fused is None
+    assert Platform([b, pushed], rho_w=1025.0, g=9.81, level=0.0).fused is None
+    assert Platform([b], rho_w=1025.0, g=9.81, level=0.0, sea=Sea.regular(height=1.0, period=10.0)).fused is None
+
+
 @pytest.mark.nojit
 def test_energies_of_a_spinning_body_and_a_stretched_line_element():
     """Platform.energies against a hand computation [J].

@@ -1,0 +1,147 @@
+"""The platform's step as three compiled calls: one free body on DEM lines in still water.
+
+``Platform`` steps its bodies and lines through Python objects: a rigid body's kick, drift and loads,
+the fairleads' kinematics, the lines' sub-steps and their pull, each a kernel called with its own
+arguments and small numpy arrays between them. In a full-scene step rank 0 does this between the
+ice's kernels, which evict its code and data every step, so the glue costs more than the arithmetic
+(docs/performance.md, "The platform and the output"). For the common case (one free body, its lines
+DEM, still water: the reference scene, the Kulluk in calm water, the buoy) this module makes each of
+``kick``, ``drift`` and ``loads`` one kernel call on the body's state packed in (1, k) arrays, with
+the same arithmetic in the same order as the general path, so the results are the same bits
+(tests/unit/test_fused_platform.py).
+
+The body's ``x``, ``v``, ``q``, ``L``, ``force`` and ``torque`` become views of the packed rows, so
+everything that reads the body (poses, output, energies, checkpoints) sees the state; code that
+assigns a new array to one of them (``Platform.set_state``, a test) is noticed before the next call
+and the rows are packed again.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..kernels import JIT
+from .attachment_kernels import add_line_pull, fairlead_kinematics
+from .mooring_line_kernels import advance_lines
+from .rigid_body import angular_velocity, free_rotation, kick_free, still_water_loads
+
+_STATE = ("x", "v", "q", "L", "force", "torque")
+
+
+@njit(**JIT)
+def kick_body(v, L, q, force, torque, mass, half_dt):
+    """Half a step [s] of the body's momentum in place (rigid_body.kick_free on row 0)."""
+    vn, Ln = kick_free(v[0], L[0], q[0], force[0], torque[0], mass, half_dt)
+    v[0] = vn
+    L[0] = Ln
+
+
+@njit(**JIT)
+def drift_body_and_lines(x, v, q, L, inertia, line, body, point, n_lines, dt, nsub, lx, lv, lmass, prev, seg,
+                         props, constants, kind, water, current, seabed, no_waves, lforce, tension, added_mass,
+                         tangent, fairleads):
+    """The body moves and turns by dt [s] (x += v dt, the torque-free rotation), then the lines take
+    nsub sub-steps of dt / nsub with their fairleads carried from where they were to the body's new
+    pose (Platform.drift and MooringLines.advance in still water)."""
+    x[0] = x[0] + dt * v[0]
+    q[0] = free_rotation(q[0], L[0], inertia, dt)
+    omega = np.empty((1, 3))
+    omega[0] = angular_velocity(q[0], L[0], inertia)
+    fx, fv = fairlead_kinematics(line, body, point, x, v, q, omega, n_lines)
+    start = lx[fairleads]
+    advance_lines(lx, lv, lmass, prev, seg, props, constants, kind, water, current, seabed, no_waves, no_waves,
+                  0.0, 1.0, lforce, tension, added_mass, tangent, fairleads, start, fx, fv, dt / nsub, nsub)
+
+
+@njit(**JIT)
+def body_loads(vertices, triangles, braces, brace_slices, x, v, q, L, mass, inertia, added_mass, damping,
+               current_drag, current, rho_w, g, level, ice, line, body, point, lforce, fairleads, free, force,
+               torque, total):
+    """The body's force [N] and moment [N m] in place: still water (rigid_body.still_water_loads), the
+    ice's load ``ice`` (1, 6) and the lines' pull at the fairleads; ``total`` (1, 3) the lines' pull."""
+    f, m = still_water_loads(vertices, triangles, braces, brace_slices, x[0], v[0], q[0], L[0], mass, inertia,
+                             added_mass, damping, current_drag, current, rho_w, g, level)
+    force[0] = f + ice[0, :3]
+    torque[0] = m + ice[0, 3:]
+    total[:] = 0.0
+    add_line_pull(line, body, point, q, lforce[fairleads], free, force, torque, total)
+
+
+class FusedStep:
+    """Platform.kick, drift and loads of one free body on one group of DEM lines in still water."""
+
+    def __init__(self, platform):
+        self.platform = platform
+        self.body = platform.bodies[0]
+        self.group = platform.groups[0] if platform.groups else None
+        b = self.body
+        self.mass = b.mass + b.added_mass[:3]          # the kick's diagonal mass [kg]
+        self.inertia = b.effective_inertia              # with the added inertia [kg m^2]
+        self.free = np.ones(1, np.bool_)
+        self.no_waves = np.empty((0, 0))
+        if self.group is not None:
+            self.no_waves = self.group.lines._no_waves
+        self.pack()
+
+    @staticmethod
+    def applies(platform) -> bool:
+        """One free body, at most one group of lines, DEM, and still water."""
+        from .mooring_lines import MooringLines
+
+        return (len(platform.bodies) == 1 and platform.bodies[0].free and platform.sea is None
+                and len(platform.groups) <= 1 and all(isinstance(g.lines, MooringLines) for g in platform.groups))
+
+    def pack(self) -> None:
+        """Copy the body's state into the packed rows and make its attributes views of them."""
+        b = self.body
+        self.rows = {name: np.array(getattr(b, name), float).reshape(1, -1) for name in _STATE}
+        for name, row in self.rows.items():
+            setattr(b, name, row[0])
+        self.views = tuple(self.rows[name][0] for name in _STATE)
+
+    def _bound(self) -> None:
+        b, views = self.body, self.views
+        if not (b.x is views[0] and b.v is views[1] and b.q is views[2] and b.L is views[3] and b.force is views[4]
+                and b.torque is views[5]):
+            self.pack()
+
+    def kick(self, half_dt: float) -> None:
+        self._bound()
+        r = self.rows
+        kick_body(r["v"], r["L"], r["q"], r["force"], r["torque"], self.mass, half_dt)
+
+    def drift(self, dt: float) -> None:
+        self._bound()
+        r, p = self.rows, self.platform
+        start = p.time
+        p.time += dt
+        if self.group is None:  # no lines: the body alone
+            r["x"][0] = r["x"][0] + dt * r["v"][0]
+            r["q"][0] = free_rotation(r["q"][0], r["L"][0], self.inertia, dt)
+            return
+        lines = self.group.lines
+        nsub = max(1, int(math.ceil(dt / p.line_dt - 1e-12)))
+        line, body, point = self.group.arrays()
+        drift_body_and_lines(r["x"], r["v"], r["q"], r["L"], self.inertia, line, body, point, len(line), dt, nsub,
+                             lines.x, lines.v, lines.mass, lines.prev, lines.seg, lines.props, lines.constants,
+                             lines.kind, lines.water, lines.current, lines.seabed, self.no_waves, lines.force,
+                             lines.tension, lines.added_mass, lines.tangent, lines.fairleads)
+        lines.time = start + dt / nsub * nsub
+
+    def loads(self, ice: np.ndarray, total: np.ndarray) -> None:
+        """The body's force and torque from still water, ``ice`` (1, 6) and the lines; their pull into
+        ``total`` (1, 3)."""
+        self._bound()
+        r, p, b = self.rows, self.platform, self.body
+        if self.group is None:
+            line, body, point = np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, 3))
+            lforce, fairleads = np.zeros((0, 3)), np.zeros(0, np.int64)
+        else:
+            (line, body, point), lforce, fairleads = self.group.arrays(), self.group.lines.force, \
+                self.group.lines.fairleads
+        body_loads(b.vertices, b.triangles, b.braces, int(b.brace_slices), r["x"], r["v"], r["q"], r["L"],
+                   float(b.mass), self.inertia, b.added_mass, b.damping, b.current_drag, p.current, p.rho_w, p.g,
+                   p.level, ice, line, body, point, lforce, fairleads, self.free, r["force"], r["torque"], total)
