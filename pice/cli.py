@@ -194,7 +194,7 @@ def _cmd_bench(args) -> int:
 
     sheet = {k: getattr(args, k) for k in ("length", "width", "broken") if getattr(args, k) is not None}
     result = run_bench(scene=args.scene, steps=args.steps, warmup=args.warmup, job=args.job, json_path=args.json,
-                       **sheet)
+                       restart=args.restart, **sheet)
     if result is not None:  # rank 0
         print("\n".join(report_lines(result)))
         print(f"pice: wrote {result['json']}")
@@ -223,6 +223,9 @@ def _add_bench_parser(sub) -> None:
                    help="steps before the windows, after set-up (default 20): numba compiled, caches warm")
     b.add_argument("--json", metavar="PATH", help="results as JSON (default runs/bench_<commit>_<R>ranks.json)")
     b.add_argument("--job", metavar="PATH", help="the full scene's job (default jobs/zhu_ji_2022_semisub.toml)")
+    b.add_argument("--restart", metavar="CHECKPOINT",
+                   help="start the full scene's window from this checkpoint of its job (a run's later phase: "
+                        "fracture, crushing), not from t = 0")
     b.add_argument("--length", type=_positive, metavar="M", help="the sheet's length [m] (default 400)")
     b.add_argument("--width", type=_positive, metavar="M", help="the sheet's width [m] (default 200)")
     b.add_argument("--broken", type=int, metavar="N",

@@ -82,18 +82,24 @@ def measure_sheet(comm, *, steps: int, warmup: int, length: float, width: float,
             "split": split}
 
 
-def measure_full(comm, job_path: pathlib.Path, *, steps: int, warmup: int, scratch: pathlib.Path) -> dict | None:
+def measure_full(comm, job_path: pathlib.Path, *, steps: int, warmup: int, scratch: pathlib.Path,
+                 restart=None) -> dict | None:
     """The wall time per simulated second of the job at ``job_path`` as it is written (the reference
     scene: its recommended setting), over a window of ``steps`` steps after ``warmup`` steps, with its
     series rows written at its series_every to the run file ``scratch`` (deleted at the end); the
-    projected hours for its whole duration; the split of its step. Rank 0's figures, None elsewhere."""
+    projected hours for its whole duration at that rate; the split of its step. ``restart``: a
+    checkpoint of the job's run to start from (None: t = 0). Rank 0's figures, None elsewhere."""
     from ..io.output import RunOutput
     from ..job import load_job
+    from ..runner import _restarted
     from ..simulation import Simulation
 
     job = load_job(job_path)
     t0 = perf_counter()
-    sim = Simulation(job, base_dir=job_path.parent, comm=comm)
+    if restart is None:
+        sim = Simulation(job, base_dir=job_path.parent, comm=comm)
+    else:
+        sim = _restarted(job, restart, base_dir=job_path.parent, comm=comm)
     out = RunOutput(sim, str(scratch), job, True)
     every = job.run.series_every
     status = "failed"  # io.output.RunOutput.close: no collective call unless every rank got to the end

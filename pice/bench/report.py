@@ -65,7 +65,8 @@ def report_lines(result: dict) -> list[str]:
     if f:
         lines += [f"full scene      {f['job']}: {f['elements']:,} elements, {f['bodies']} body(ies), "
                   f"{f['mooring_lines']} line(s), dt {f['dt']:.4g} s ({f['dt_safety']:.3g} x the limit), "
-                  f"{f['steps']} steps from t = {f['window_start_time_s']:.3g} s",
+                  f"{f['steps']} steps from t = {f['window_start_time_s']:.3g} s"
+                  + (f" (restarted from {result['settings']['restart']})" if result["settings"].get("restart") else ""),
                   f"  cost          {f['wall_s_per_simulated_s']:.4g} s of wall time per simulated second, "
                   f"{f['ms_per_step']:.3f} ms/step, {f['particle_steps_per_second']:.4g} particle-steps/s",
                   f"  projected     {f['projected_hours']:.3g} h for its {f['duration_s']:g} s on "

@@ -85,6 +85,27 @@ def test_bench_writes_the_figures_the_machine_and_a_split_that_adds_up(tmp_path,
     assert "particle-steps/s" in text and "per simulated second" in text and "platform" in text
 
 
+def test_bench_starts_the_full_scene_from_a_checkpoint_of_its_run(tmp_path):
+    """``pice bench --restart CHECKPOINT``: the window starts where the run's checkpoint left it (a
+    later phase of the scene), recorded in the settings; a missing checkpoint is refused first."""
+    from pice.errors import JobError
+    from pice.job import load_job
+    from pice.runner import run_job
+
+    serial_only()
+    job_path = tmp_path / "barge.toml"
+    job_path.write_text(scenes.barge_job(duration=0.004, series_every=10, mooring="dem").replace(
+        "snapshots = 3", "snapshots = 2\ncheckpoint_every = 0.002"))
+    run_job(load_job(job_path), output=str(tmp_path / "barge.h5"), progress=None)
+    ckpt = tmp_path / "barge.ckpt.h5"
+    result = run_bench(scene="full", steps=4, warmup=2, job=job_path, json_path=tmp_path / "b.json", restart=ckpt)
+    assert result["settings"]["restart"] == str(ckpt)
+    assert result["full"]["window_start_time_s"] == pytest.approx(0.004 + 2e-4, rel=1e-9)  # 40 + 2 steps of 1e-4 s
+    assert "restarted from" in "\n".join(report_lines(result))
+    with pytest.raises(JobError, match="no such checkpoint"):
+        run_bench(scene="full", steps=4, warmup=2, job=job_path, restart=tmp_path / "none.ckpt.h5")
+
+
 def test_the_plain_step_reads_no_clock_and_the_timed_step_gives_its_numbers_bit_for_bit(tick_clock):
     serial_only()
     reads = tick_clock
