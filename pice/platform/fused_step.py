@@ -1,4 +1,4 @@
-"""The platform's step as three compiled calls: one free body on DEM lines in still water.
+"""The platform's step as three compiled calls: one free body on one group of DEM lines in still water.
 
 ``Platform`` steps its bodies and lines through Python objects: a rigid body's kick, drift and loads,
 the fairleads' kinematics, the lines' sub-steps and their pull, each a kernel called with its own
@@ -71,28 +71,27 @@ def body_loads(vertices, triangles, braces, brace_slices, x, v, q, L, mass, iner
 
 
 class FusedStep:
-    """Platform.kick, drift and loads of one free body on one group of DEM lines in still water."""
+    """Platform.kick, drift and loads of one free body on one group of DEM lines in still water
+    (``applies``; anything else takes Platform's general path)."""
 
     def __init__(self, platform):
         self.platform = platform
         self.body = platform.bodies[0]
-        self.group = platform.groups[0] if platform.groups else None
+        self.group = platform.groups[0]
         b = self.body
         self.mass = b.mass + b.added_mass[:3]          # the kick's diagonal mass [kg]
         self.inertia = b.effective_inertia              # with the added inertia [kg m^2]
         self.free = np.ones(1, np.bool_)
-        self.no_waves = np.empty((0, 0))
-        if self.group is not None:
-            self.no_waves = self.group.lines._no_waves
+        self.no_waves = self.group.lines._no_waves
         self.pack()
 
     @staticmethod
     def applies(platform) -> bool:
-        """One free body, at most one group of lines, DEM, and still water."""
+        """One free body, one group of lines, DEM, and still water."""
         from .mooring_lines import MooringLines
 
         return (len(platform.bodies) == 1 and platform.bodies[0].free and platform.sea is None
-                and len(platform.groups) <= 1 and all(isinstance(g.lines, MooringLines) for g in platform.groups))
+                and len(platform.groups) == 1 and isinstance(platform.groups[0].lines, MooringLines))
 
     def pack(self) -> None:
         """Copy the body's state into the packed rows and make its attributes views of them."""
@@ -118,10 +117,6 @@ class FusedStep:
         r, p = self.rows, self.platform
         start = p.time
         p.time += dt
-        if self.group is None:  # no lines: the body alone
-            r["x"][0] = r["x"][0] + dt * r["v"][0]
-            r["q"][0] = free_rotation(r["q"][0], r["L"][0], self.inertia, dt)
-            return
         lines = self.group.lines
         nsub = max(1, int(math.ceil(dt / p.line_dt - 1e-12)))
         line, body, point = self.group.arrays()
@@ -136,12 +131,8 @@ class FusedStep:
         ``total`` (1, 3)."""
         self._bound()
         r, p, b = self.rows, self.platform, self.body
-        if self.group is None:
-            line, body, point = np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, 3))
-            lforce, fairleads = np.zeros((0, 3)), np.zeros(0, np.int64)
-        else:
-            (line, body, point), lforce, fairleads = self.group.arrays(), self.group.lines.force, \
-                self.group.lines.fairleads
+        line, body, point = self.group.arrays()
+        lines = self.group.lines
         body_loads(b.vertices, b.triangles, b.braces, int(b.brace_slices), r["x"], r["v"], r["q"], r["L"],
                    float(b.mass), self.inertia, b.added_mass, b.damping, b.current_drag, p.current, p.rho_w, p.g,
-                   p.level, ice, line, body, point, lforce, fairleads, self.free, r["force"], r["torque"], total)
+                   p.level, ice, line, body, point, lines.force, lines.fairleads, self.free, r["force"], r["torque"], total)

@@ -93,7 +93,7 @@ class Platform:
         self.wave_intervals = WaveIntervals(self.sea) if self.sea is not None else None
         self.ice = np.zeros((len(bodies), 6))
         self.mooring_force = np.zeros((len(bodies), 3))  # pull of all lines on each body [N]
-        # one free body on DEM lines in still water: three compiled calls a step (fused_step.py)
+        # one free body on one group of DEM lines in still water: three compiled calls a step (fused_step.py)
         self.fused = FusedStep(self) if FusedStep.applies(self) else None
 
     @property

@@ -100,7 +100,8 @@ def test_the_fused_step_gives_the_general_paths_bits(restart):
 
 
 def test_the_fused_step_is_taken_only_where_it_applies():
-    """Two bodies, a prescribed body or waves take the general path (Platform.fused is None)."""
+    """Two bodies, a prescribed body, a body without lines or waves take the general path (Platform.fused
+    is None)."""
     from pice.physics.waves import Sea
 
     p, b = moored_semi()
@@ -109,6 +110,7 @@ def test_the_fused_step_is_taken_only_where_it_applies():
     pushed = RigidBody("ship", 1e6, np.ones(3), v, t, prescribed=np.array([[0.0, 1.0, 0, 0, 0, 0, 0]]))
     assert Platform([pushed], rho_w=1025.0, g=9.81, level=0.0).fused is None
     assert Platform([b, pushed], rho_w=1025.0, g=9.81, level=0.0).fused is None
+    assert Platform([b], rho_w=1025.0, g=9.81, level=0.0).fused is None
     assert Platform([b], rho_w=1025.0, g=9.81, level=0.0, sea=Sea.regular(height=1.0, period=10.0)).fused is None
 
 
