@@ -67,7 +67,7 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
     from .io.checkpoint import default_path
 
     if restart is not None:
-        sim = _restarted(job, restart, base_dir=base_dir, comm=comm)
+        sim = simulation_from_checkpoint(job, restart, base_dir=base_dir, comm=comm)
     else:
         sim = Simulation(job, base_dir=base_dir, comm=comm)
     comm = sim.comm
@@ -165,7 +165,7 @@ def _node_updates(sim) -> int:
     return int(d["mooring_nodes"] * max(d["mooring_substeps"], 1)) if d["mooring_nodes"] else 0
 
 
-def _restarted(job, path, *, base_dir=None, comm=None) -> Simulation:
+def simulation_from_checkpoint(job, path, *, base_dir=None, comm=None) -> Simulation:
     """A Simulation continued from the checkpoint at ``path`` (rank 0 reads it; errors reach every rank)."""
     from .io.checkpoint import read_checkpoint
     from .parallel.comm import on_root, world

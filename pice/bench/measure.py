@@ -91,7 +91,7 @@ def measure_full(comm, job_path: pathlib.Path, *, steps: int, warmup: int, scrat
     checkpoint of the job's run to start from (None: t = 0). Rank 0's figures, None elsewhere."""
     from ..io.output import RunOutput
     from ..job import load_job
-    from ..runner import _restarted
+    from ..runner import simulation_from_checkpoint
     from ..simulation import Simulation
 
     job = load_job(job_path)
@@ -99,7 +99,7 @@ def measure_full(comm, job_path: pathlib.Path, *, steps: int, warmup: int, scrat
     if restart is None:
         sim = Simulation(job, base_dir=job_path.parent, comm=comm)
     else:
-        sim = _restarted(job, restart, base_dir=job_path.parent, comm=comm)
+        sim = simulation_from_checkpoint(job, restart, base_dir=job_path.parent, comm=comm)
     out = RunOutput(sim, str(scratch), job, True)
     every = job.run.series_every
     status = "failed"  # io.output.RunOutput.close: no collective call unless every rank got to the end
