@@ -61,11 +61,12 @@ def bond_kernel(repeat: int) -> dict:
     sim, _ = reference_sheet()
     p, law, dt = sim.p, sim.bond_term.law, sim.dt
     events = np.zeros((1000, 3), np.int64)
+    removed = np.zeros((1000, 2), np.int64)
     hist = p.bond_hist.copy()
 
     def call():
         bond_forces(p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.bond_j, p.bond_mate, p.bond_gid, p.bond_L0,
-                    hist, law, dt, p.force, p.torque, events)
+                    hist, law, dt, p.force, p.torque, events, removed)
 
     call()
     t = fastest(call, repeat)

@@ -78,6 +78,9 @@ class Particles:
     anchor_k: np.ndarray = field(default=None)       # (n,3) spring-boundary stiffness per direction [N/m] (0: free)
     nlocal: int = 0
     topology: int = 0  # raised whenever a bond is removed from these rows (the contact candidates change)
+    # The bonds removed since the contact pair list last looked, one (k, 2) array of local (i, j) per raise
+    # of ``topology`` (None where they were not logged); None while nobody keeps a list (physics/contact.py).
+    unbonded: list | None = None
 
     @property
     def n(self) -> int:

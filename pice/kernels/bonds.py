@@ -171,12 +171,15 @@ def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
 
 @njit(**JIT)
 def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0, bond_hist,
-                law, dt, force, torque, events):
+                law, dt, force, torque, events, removed):
     """Add the forces of every intact bond touching an owned particle; break failed bonds.
 
     Args:
         events: (max_events, 3) int64 log of bonds broken this call: (gid_a, gid_b, mode); the
             breaks beyond its length are counted but not logged.
+        removed: (max_removed, 2) int64 log of the bonds this rank removed from its rows, as local
+            (i, j) with i owned (the lower-gid end when both are owned: the contact pair list's
+            convention, kernels/pair_list.insert_pairs); those beyond its length are counted only.
 
     Returns:
         (broken, removed): the bonds broken in this call, counted once over the ranks (by the rank that
@@ -200,6 +203,9 @@ def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_
             b = j if i_is_a else i
             r = _bond_core(a, b, x, v, w, radius, bond_L0[i, s], bond_hist, i, s, law, dt)
             if r[0] != INTACT:
+                if nremoved < removed.shape[0]:
+                    removed[nremoved, 0] = i
+                    removed[nremoved, 1] = j
                 nremoved += 1
                 bond_j[i, s] = -1
                 bond_gid[i, s] = -1

@@ -78,12 +78,16 @@ class BondTerm:
     def __init__(self, law: BondLaw):
         self.law = law
         self._events = np.zeros((self.max_events, 3), dtype=np.int64)  # gid_a, gid_b, mode
+        self._removed = np.zeros((self.max_events, 2), dtype=np.int64)  # local i, j
 
     def add_forces(self, p, c, dt):
         nb, removed = bond_forces(p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.bond_j, p.bond_mate, p.bond_gid,
-                                  p.bond_L0, p.bond_hist, self.law, dt, p.force, p.torque, self._events)
+                                  p.bond_L0, p.bond_hist, self.law, dt, p.force, p.torque, self._events,
+                                  self._removed)
         if removed:
             p.topology += 1  # the contact candidates change (physics/contact.py)
+            if p.unbonded is not None:
+                p.unbonded.append(self._removed[:removed].copy() if removed <= self.max_events else None)
         if nb:
             c.broken += nb
             for a, b, mode in self._events[:min(nb, self.max_events)]:

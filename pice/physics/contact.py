@@ -12,7 +12,7 @@ from collections import namedtuple
 import numpy as np
 
 from ..kernels.contacts import contact_forces
-from ..kernels.pair_list import build_pair_list, moved_beyond
+from ..kernels.pair_list import build_pair_list, insert_pairs, moved_beyond
 from .iso19906 import crushing_pressure
 
 ContactLaw = namedtuple("ContactLaw", ["kn", "kt", "zeta", "mu", "crushing_pressure"], defaults=[math.inf])
@@ -88,12 +88,14 @@ class IceContactTerm:
     flow (crushing) in the last step.
 
     The candidates come from a neighbour list with a skin (kernels/pair_list.py), rebuilt when the
-    rows were replaced (migration, ghosts, removal: a new ``p.gid`` array), a bond was removed
-    (``p.topology``), or an element has moved half the skin since the list was built; ``builds``
-    counts the rebuilds. skin [m]: 0.3 of the largest diameter by default."""
+    rows were replaced (migration, ghosts, removal: a new ``p.gid`` array) or an element has moved
+    half the skin since the list was built; ``builds`` counts the rebuilds. A removed bond
+    (``p.topology`` raised) adds its pair to the list from ``p.unbonded`` (``inserts`` counts these);
+    a removal not logged there rebuilds it. skin [m]: 0.3 of the largest diameter by default."""
 
     crushing = 0
     builds = 0
+    inserts = 0
     name = "ice contacts"
 
     def __init__(self, law: ContactLaw, *, skin: float):
@@ -103,12 +105,25 @@ class IceContactTerm:
 
     def _list(self, p):
         built = self._built_for
-        if (built is None or built[0] is not p.gid or built[1] != p.nlocal or built[2] != p.topology
+        if (built is None or built[0] is not p.gid or built[1] != p.nlocal
                 or moved_beyond(p.n, p.x, self._x_ref, 0.5 * self.skin)):
             self.pair_start, self.partners = build_pair_list(p.nlocal, p.n, p.gid, p.x, p.radius, p.bond_j, self.skin)
             self._x_ref = p.x.copy()
-            self._built_for = (p.gid, p.nlocal, p.topology)
             self.builds += 1
+        elif built[2] != p.topology:
+            logged = p.unbonded or []
+            if len(logged) == p.topology - built[2] and all(a is not None for a in logged):
+                self.pair_start, self.partners = insert_pairs(self.pair_start, self.partners, p.gid,
+                                                              np.concatenate(logged))
+                self.inserts += 1
+            else:  # removals not logged (or more than the log held)
+                self.pair_start, self.partners = build_pair_list(p.nlocal, p.n, p.gid, p.x, p.radius, p.bond_j,
+                                                                 self.skin)
+                self.builds += 1
+        else:
+            return self.pair_start, self.partners
+        self._built_for = (p.gid, p.nlocal, p.topology)
+        p.unbonded = []
         return self.pair_start, self.partners
 
     def add_forces(self, p, c, dt):

@@ -79,7 +79,7 @@ def _true_limit(sim) -> float:
         force, torque = np.zeros((n, 3)), np.zeros((n, 3))
         bond_forces(n, p.gid, p.x + dx, dx / dt, dth / dt, p.radius, p.bond_j.copy(), p.bond_mate,
                     p.bond_gid.copy(), p.bond_L0, np.zeros_like(p.bond_hist), params, dt, force, torque,
-                    np.zeros((4, 3), dtype=np.int64))
+                    np.zeros((4, 3), dtype=np.int64), np.zeros((4, 2), dtype=np.int64))
         return np.concatenate([force.ravel(), torque.ravel()])
 
     ndof, delta = 6 * n, 1e-9

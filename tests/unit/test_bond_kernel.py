@@ -64,7 +64,7 @@ def _pair_forces(gid, x, v, w, radius, hist, *, L0=0.95, dt=1e-4):
     force, torque = np.zeros((2, 3)), np.zeros((2, 3))
     events = np.zeros((4, 3), dtype=np.int64)
     assert bond_forces(2, np.asarray(gid, np.int64), x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0,
-                       bond_hist, _kernel_params(), dt, force, torque, events) == (0, 0)
+                       bond_hist, _kernel_params(), dt, force, torque, events, events[:, :2].copy()) == (0, 0)
     return force, torque, bond_hist[int(np.argmin(gid)), 0].copy()
 
 
@@ -95,7 +95,7 @@ def test_kernel_newtons_third_law_and_moment_balance(seed):
     force, torque = np.zeros((2, 3)), np.zeros((2, 3))
     events = np.zeros((4, 3), dtype=np.int64)
     nb = bond_forces(2, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0, bond_hist, params, 1e-4,
-                     force, torque, events)
+                     force, torque, events, events[:, :2].copy())
     assert nb == (0, 0)
     F = force[0]
     assert np.linalg.norm(F) > 1e3 and np.linalg.norm(torque[0]) > 1e2  # a non-trivial state

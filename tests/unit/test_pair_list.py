@@ -92,3 +92,68 @@ def test_moved_beyond_catches_a_non_finite_position():
     y[1, 0] = np.nan
     assert moved_beyond(3, y, x, 0.1)
     assert not moved_beyond(3, x, x, 0.1)
+
+
+def test_a_broken_bond_is_inserted_as_a_fresh_build_would_list_it():
+    """insert_pairs after bonds are removed gives exactly the list a fresh build gives (reference:
+    build_pair_list, itself checked against brute force above), for pairs with an owned and a ghost
+    end, twice-logged pairs, and a pair already listed."""
+    from pice.kernels.pair_list import insert_pairs
+
+    gid, x, radius, bond_j, nlocal = _cloud(seed=7)
+    skin = 0.3
+    start, partners = build_pair_list(nlocal, len(x), gid, x, radius, bond_j, skin)
+    pairs = []
+    for i in range(nlocal):  # remove every third bond, logged in the list's convention
+        for s in range(MAX_BONDS):
+            j = bond_j[i, s]
+            if j < 0 or (j < nlocal and gid[j] < gid[i]) or (i + s) % 3:
+                continue
+            bond_j[i, s] = -1
+            if j < nlocal:
+                bond_j[j, int(np.flatnonzero(bond_j[j] == i)[0])] = -1
+            pairs.append((i, j))
+    assert len(pairs) > 30 and any(j >= nlocal for _, j in pairs)
+    pairs += pairs[:3]  # logged twice
+    listed = (0, int(partners[start[0]]))  # already a candidate
+    logged = np.array(pairs + [listed], dtype=np.int64)
+    new_start, new_partners = insert_pairs(start, partners, gid, logged)
+    fresh_start, fresh_partners = build_pair_list(nlocal, len(x), gid, x, radius, bond_j, skin)
+    np.testing.assert_array_equal(new_start, fresh_start)
+    np.testing.assert_array_equal(new_partners, fresh_partners)
+
+
+def test_the_contact_term_inserts_logged_removals_and_rebuilds_for_unlogged_ones():
+    """IceContactTerm: a bond removal logged in p.unbonded is inserted (no rebuild), one that is not
+    (p.topology raised alone) rebuilds the list; both give the fresh build's list."""
+    from types import SimpleNamespace
+
+    from pice.physics.contact import IceContactTerm
+
+    gid, x, radius, bond_j, nlocal = _cloud(seed=9)
+    p = SimpleNamespace(gid=gid, x=x, radius=radius, bond_j=bond_j, nlocal=nlocal, n=len(x), topology=0,
+                        unbonded=None)
+    term = IceContactTerm(ContactLaw(kn=1e7, kt=4e6, zeta=0.3, mu=0.3, crushing_pressure=2.5e6), skin=0.3)
+    term._list(p)
+    assert (term.builds, term.inserts, p.unbonded) == (1, 0, [])
+
+    def remove(i):
+        s = int(np.flatnonzero(bond_j[i] >= 0)[0])
+        j = int(bond_j[i, s])
+        bond_j[i, s] = -1
+        if j < nlocal:
+            bond_j[j, int(np.flatnonzero(bond_j[j] == i)[0])] = -1
+        p.topology += 1
+        return (i, j) if j >= nlocal or gid[i] < gid[j] else (j, i)
+
+    rows = [i for i in range(nlocal) if (bond_j[i] >= 0).any()]
+    for i in rows[:4]:
+        p.unbonded.append(np.array([remove(i)], dtype=np.int64))
+    start, partners = term._list(p)
+    assert (term.builds, term.inserts, p.unbonded) == (1, 1, [])
+    fresh = build_pair_list(nlocal, len(x), gid, x, radius, bond_j, 0.3)
+    np.testing.assert_array_equal(partners, fresh[1])
+    remove(rows[5])  # not logged: a rebuild
+    start, partners = term._list(p)
+    assert (term.builds, term.inserts) == (2, 1)
+    np.testing.assert_array_equal(partners, build_pair_list(nlocal, len(x), gid, x, radius, bond_j, 0.3)[1])
