@@ -36,6 +36,7 @@ from .physics.rigid_ice import rigid_pieces_from_job
 from .physics.hydro import GravityTerm, WaterTerm, heave_damping, water_from_job
 from .physics.timestep import sheet_time_step
 from .physics.walls import WallTerm
+from .physics.work import element_work
 from .scenes.level_ice import build_level_ice
 from .scenes.loads import apply_loads_and_fixes
 from .timers import StepTimers, term_part
@@ -86,12 +87,11 @@ class Simulation:
         self.dt = self.limit.chosen
         refuse_outputs_beyond_run(job, self.total_steps, self.dt)
         self.terms = self._force_terms()
-        self.wall_total = None   # rank 0: the reduced load on each [[walls]] entry
-        self.body_total = None   # rank 0: the reduced ice load on each body
+        self.wall_total = self.body_total = None  # rank 0: the reduced load on each [[walls]] entry, each body
         self.c = Counters()
         self.timers = None  # pice/timers.py StepTimers once enable_timers() has switched to the timed step
         width = ghost_width(p, self.bond, job.parallel.skin) if self.has_sheet else job.parallel.skin
-        self.domain = Domain(self.comm, job.parallel, ghost_width=width, dt=self.dt)
+        self.domain = Domain(self.comm, job.parallel, ghost_width=width, dt=self.dt, work=element_work)
         if not restart:
             self.domain.distribute(p)
             self.compute_forces()

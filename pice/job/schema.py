@@ -214,8 +214,10 @@ class ParallelSpec(Section):
     # what the cuts even out (parallel/domain.py): the elements per rank, or each rank's measured
     # busy time (its wall time outside waits on other ranks) since the last check; "time" follows
     # the work a rank really does (rank 0's platform, a slower core) but makes the cuts, and so the
-    # round-off, depend on timing: a run is then not repeatable bit for bit
-    balance_by: Literal["elements", "time"] = "elements"
+    # round-off, depend on timing: a run is then not repeatable bit for bit; "work" weighs each element
+    # by its modelled work (its ice and hull contacts cost more than its bonds: physics/work.py), from
+    # the state alone, so that a run stays repeatable bit for bit
+    balance_by: Literal["elements", "time", "work"] = "elements"
     domain: Optional[tuple[Vec2, Vec2]] = None
 
 

@@ -1,5 +1,6 @@
 """Load balance: move the cuts so every rank owns about the same number of particles, or the same work
-(particles weighted by their rank's measured cost: parallel/domain.py, ``balance_by = "time"``)."""
+(particles weighted by their rank's measured cost, ``balance_by = "time"``, or by each one's modelled
+work, ``balance_by = "work"``: parallel/domain.py)."""
 
 from __future__ import annotations
 
@@ -17,12 +18,13 @@ def imbalance(comm, nlocal: int) -> float:
     return most / (total / comm.size) if total else 1.0
 
 
-def rebalanced(comm, decomp: Decomposition, x: np.ndarray, weight: float | None = None) -> Decomposition:
+def rebalanced(comm, decomp: Decomposition, x: np.ndarray, weight=None) -> Decomposition:
     """New cuts at the quantiles of the global particle distribution (histograms, no gather).
 
-    x: (nlocal, 3) owned positions [m]; weight: what each of this rank's particles counts for (its
-    measured cost, parallel/domain.py), None: 1 each. Cost: two allreduces of BINS (and px * BINS)
-    counts.
+    x: (nlocal, 3) owned positions [m]; weight: what each of this rank's particles counts for, one
+    number for all (their rank's measured cost) or one each ((nlocal,): their modelled work; whole
+    numbers keep the sums, and so the cuts, independent of the order of the rows); None: 1 each
+    (parallel/domain.py). Cost: two allreduces of BINS (and px * BINS) counts.
     """
     if comm.size == 1:
         return decomp
@@ -33,7 +35,7 @@ def rebalanced(comm, decomp: Decomposition, x: np.ndarray, weight: float | None 
     pad = 1e-9 * max(1.0, float(np.abs(np.concatenate([lo, hi])).max()))
     x_edges = np.linspace(lo[0] - pad, hi[0] + pad, BINS + 1)
     y_edges = np.linspace(lo[1] - pad, hi[1] + pad, BINS + 1)
-    w = None if weight is None else np.full(len(x), float(weight))
+    w = None if weight is None else np.broadcast_to(np.asarray(weight, dtype=np.float64), (len(x),))
     x_hist = comm.sum(np.histogram(x[:, 0], bins=x_edges, weights=w)[0].astype(np.float64))
     px, py = decomp.px, decomp.py
     # x cuts first, then each column's y histogram under the new x cuts

@@ -7,7 +7,10 @@ particle has moved half the skin (checked every few steps, as a bound on the mot
 with ``balance_by = "time"``, when their busy times do: each rank's wall time since the last check
 minus what it spent waiting inside MPI calls (``comm.blocked``, parallel/comm.py); its particles then
 weigh its busy time per particle, so the cuts even out the work. The first check after a start or a
-restart only starts the clock (it would count numba's compilation) and balances the elements.
+restart only starts the clock (it would count numba's compilation) and balances the elements. With
+``balance_by = "work"`` each particle weighs its own modelled work (``Domain.work``, given by the
+simulation: its contacts, which sit where the ice is broken, cost more than its bonds), a function
+of the state alone, so that the cuts, and a run, stay repeatable bit for bit.
 """
 
 from __future__ import annotations
@@ -41,14 +44,17 @@ def ghost_width(p, bond, skin: float) -> float:
 class Domain:
     """The decomposition and halo of one rank, and the exchanges of the step."""
 
-    def __init__(self, comm, parallel, *, ghost_width: float, dt: float):
+    def __init__(self, comm, parallel, *, ghost_width: float, dt: float, work=None):
         """parallel: the job's [parallel] section (skin, balance_every, imbalance_threshold, domain);
-        ghost_width [m]; dt: the time step [s] (the halo's rebuild check bounds the motion with it)."""
+        ghost_width [m]; dt: the time step [s] (the halo's rebuild check bounds the motion with it);
+        work: p -> (nlocal,) the modelled work of each owned particle in whole numbers, for
+        ``balance_by = "work"`` (physics/work.py; None: 1 each)."""
         self.comm, self.parallel, self.ghost_width, self.dt = comm, parallel, ghost_width, dt
         self.decomp: Decomposition | None = None
         self.halo: Halo | None = None
         self.imbalance = 1.0
         self._clock = None  # (wall time [s], comm.blocked [s]) at the last balance check (balance_by "time")
+        self.work = work
 
     def distribute(self, p) -> None:
         """Decompose the whole sheet ``p`` over the ranks, keep this rank's part, build the halo."""
@@ -100,11 +106,16 @@ class Domain:
             timers.lap("waiting")
 
     def rebalance(self, p, step: int) -> bool:
-        """Move the cuts if max/mean particles per rank (``balance_by = "time"``: busy time per rank)
-        exceeds the threshold; True if it did (and rebuilt)."""
-        busy = self._busy_time() if self.parallel.balance_by == "time" else None
+        """Move the cuts if max/mean particles per rank (``balance_by = "time"``: busy time per rank;
+        "work": modelled work per rank) exceeds the threshold; True if it did (and rebuilt)."""
+        by = self.parallel.balance_by
+        busy = self._busy_time() if by == "time" else None
         weight, what = None, "particles"
-        if busy is None:
+        if by == "work" and self.work is not None:
+            weight, what = self.work(p), "modelled work"
+            mine = float(weight.sum())
+            self.imbalance = self.comm.max(mine) / max(self.comm.sum(mine) / self.comm.size, 1.0)
+        elif busy is None:
             self.imbalance = imbalance(self.comm, p.nlocal)
         else:
             self.imbalance = self.comm.max(busy) / (self.comm.sum(busy) / self.comm.size)

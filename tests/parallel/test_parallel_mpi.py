@@ -151,3 +151,34 @@ def test_balance_by_time_gives_the_slow_rank_fewer_elements(comm):
     assert counts[0] <= 0.15 * n0, counts
     (counts, n0) = run("elements")
     assert max(counts) <= 0.55 * n0, counts
+
+
+def test_balance_by_work_evens_out_the_modelled_work(comm):
+    """balance_by = "work": the elements of the 20 m x 10 m sheet with x < 4 m are marked as touching a
+    hull (their hull contact history set), so each weighs ELEMENT + HULL = 220 against 10 for the rest
+    (physics/work.py). The weighted median then lies inside the marked strip: after the check at step
+    10 the two ranks' modelled work is within the threshold (1.05) plus one lattice column (the cut
+    moves by whole columns of about 10 elements, 10 x 220 = 2,200 of a total near 13,000), the rank
+    holding the strip has few elements, and every element and bond is kept. "elements" keeps the
+    counts even (reference: the weights' sum, counted exactly in whole numbers)."""
+    from pice.physics.work import element_work
+
+    def run(by):
+        sim = Simulation(_small_sheet({"balance_every": 10, "balance_by": by}), comm=comm)
+        p = sim.p
+        n0, b0 = comm.sum(p.nlocal), comm.sum(p.bond_count())
+        p.hull_hist[:p.nlocal, 0, 1] = np.where(p.x[:p.nlocal, 0] < 4.0, 1.0, 0.0)
+        total = comm.sum(float(element_work(p).sum()))
+        sim.advance(10)
+        p = sim.p
+        assert comm.sum(p.nlocal) == n0 and comm.sum(p.bond_count()) == b0
+        work = comm.bcast(comm.gather(float(element_work(p).sum())))
+        assert sum(work) == total  # the marks moved with their elements
+        return work, comm.bcast(comm.gather(p.nlocal)), n0
+
+    work, counts, n0 = run("work")
+    column = 10 * 220.0
+    assert max(work) <= 1.05 * sum(work) / 2 + column, work
+    assert min(counts) <= 0.35 * n0, counts
+    work, counts, n0 = run("elements")
+    assert max(counts) <= 0.55 * n0 and max(work) > 1.5 * sum(work) / 2, (counts, work)
