@@ -30,7 +30,7 @@ import math
 
 from numba import njit
 
-from . import JIT
+from . import JIT, JIT_FMA
 
 INTACT = 0
 TENSION_BENDING = 1  # Eq. 3: tension plus bending reaches the normal strength
@@ -169,7 +169,7 @@ def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
             -own0 + cb * c0, -own1 + cb * c1, -own2 + cb * c2)
 
 
-@njit(**JIT)
+@njit(**JIT_FMA)
 def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0, bond_hist,
                 law, dt, force, torque, events, removed):
     """Add the forces of every intact bond touching an owned particle; break failed bonds.

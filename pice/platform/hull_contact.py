@@ -80,7 +80,20 @@ def hull_forces(nlocal, x, v, w, radius, mass, cell_area, half_height, pose, ver
     pb = np.empty(3)
     cp = np.empty(3)
     best = np.empty(3)
+    # the grid's bounding sphere in the space frame: most elements are outside it, and are skipped
+    # before the turn into the body frame (their history is zero already, or zeroed now)
+    half = 0.5 * cell * dims
+    mid0, mid1, mid2 = grid_origin[0] + half[0], grid_origin[1] + half[1], grid_origin[2] + half[2]
+    sc0 = xc[0] + R[0, 0] * mid0 + R[0, 1] * mid1 + R[0, 2] * mid2
+    sc1 = xc[1] + R[1, 0] * mid0 + R[1, 1] * mid1 + R[1, 2] * mid2
+    sc2 = xc[2] + R[2, 0] * mid0 + R[2, 1] * mid1 + R[2, 2] * mid2
+    reach2 = (half[0] * half[0] + half[1] * half[1] + half[2] * half[2]) * (1.0 + 1e-6)
     for i in range(nlocal):
+        s0, s1, s2 = x[i, 0] - sc0, x[i, 1] - sc1, x[i, 2] - sc2
+        if s0 * s0 + s1 * s1 + s2 * s2 > reach2:
+            if hist[i, 0] != 0.0 or hist[i, 1] != 0.0 or hist[i, 2] != 0.0 or hist[i, 3] != 0.0:
+                hist[i, :] = 0.0
+            continue
         r = radius[i]
         d0, d1, d2 = x[i, 0] - xc[0], x[i, 1] - xc[1], x[i, 2] - xc[2]
         for k in range(3):
