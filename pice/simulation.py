@@ -1,10 +1,9 @@
 """One rank's simulation: set-up from a job, and the step (DESIGN.md "The step").
 
 The step (velocity Verlet):
-    half kick with F(t);  drift x(t+dt);  post the ghost update;  the force terms on owned
-    elements only (water, walls, hulls, far-field springs) while it travels;  receive the ghosts;
-    bonds and contacts;  half kick.  Bond and contact increments use the half-step velocities, i.e. the exact
-    displacement increment over the step.
+    half kick with F(t);  drift x(t+dt);  post the ghost update;  the force terms on owned elements only
+    (water, walls, hulls, far-field springs) while it travels;  receive the ghosts;  bonds and contacts;
+    half kick.  Bond and contact increments use the half-step velocities: the exact displacement increment.
 
 The forces come from a list of force terms built at set-up (``self.terms``), one object per piece of
 physics the job declares (bonds, ice contacts, walls, water or gravity, the spring boundary, hulls);
@@ -24,7 +23,7 @@ from .io.output import refuse_outputs_beyond_run
 from .kernels.bonds import sync_mate_history
 from .kernels.integrate import drift, kick, max_step_displacement
 from .memory import refuse_oversized
-from .parallel.comm import on_root, world
+from .parallel.comm import on_root, refuse_mixed_arithmetic, world
 from .parallel.domain import Domain, ghost_width
 from .physics.bond import BondTerm
 from .physics.bond_calibration import bond_params_from_job
@@ -64,6 +63,7 @@ class Simulation:
     def __init__(self, job, *, base_dir=None, comm=None, restart=False, checkpoint=None):
         self.job = job
         self.comm = comm if comm is not None else world()
+        refuse_mixed_arithmetic(self.comm)
         refuse_oversized(job, self.comm, base_dir)  # every rank builds the whole sheet, then keeps its part
         self.p, self.sheet = build_level_ice(job)  # no elements without [ice]
         p = self.p

@@ -297,3 +297,37 @@ def on_root(comm, work, *, translate=None, here=None):
     if error is not None:
         raise error
     return result
+
+
+def compiles_fused_multiply_add() -> bool:
+    """Whether the CPU numba compiles for here has fused multiply-add (the bond kernel fuses where it
+    can: kernels/__init__.py JIT_FMA): the host's, or NUMBA_CPU_NAME / NUMBA_CPU_FEATURES when set
+    (a named CPU without a feature list counts as having FMA, but "generic")."""
+    import numba
+
+    name, features = numba.config.CPU_NAME, numba.config.CPU_FEATURES
+    if features:
+        return "+fma" in features.split(",")
+    if name:
+        return name != "generic"
+    import llvmlite.binding as llvm
+
+    return bool(llvm.get_host_cpu_features().get("fma", False))
+
+
+def refuse_mixed_arithmetic(comm) -> None:
+    """Refuse to run on ranks whose CPUs differ in fused multiply-add (every rank, collectively).
+
+    The two ranks holding the ends of a bond across a cut compute it each, and must break it at the
+    same step: they must round alike, which a rank fusing multiply-adds and one that does not would not."""
+    if comm.size == 1:
+        return
+    from ..errors import PiceError
+
+    fma = comm.bcast(comm.gather(compiles_fused_multiply_add()))
+    if len(set(fma)) > 1:
+        with_fma = [r for r, f in enumerate(fma) if f]
+        raise PiceError(f"ranks {with_fma} run on CPUs with fused multiply-add and the others on CPUs without: the "
+                        "two ends of a bond across ranks would round differently; run on one kind of node, or set "
+                        "NUMBA_CPU_NAME=generic for every rank (no fused multiply-add anywhere, a few per cent "
+                        "slower)")

@@ -182,3 +182,17 @@ def test_balance_by_work_evens_out_the_modelled_work(comm):
     assert min(counts) <= 0.35 * n0, counts
     work, counts, n0 = run("elements")
     assert max(counts) <= 0.55 * n0 and max(work) > 1.5 * sum(work) / 2, (counts, work)
+
+
+def test_ranks_that_would_round_differently_are_refused(comm, monkeypatch):
+    """A rank whose CPU fuses multiply-adds and one whose CPU does not would compute the bond across
+    their cut to different bits and could break it on one side only: refused on every rank, with the
+    fix named; ranks alike pass."""
+    import pice.parallel.comm as C
+    from pice.errors import PiceError
+
+    monkeypatch.setattr(C, "compiles_fused_multiply_add", lambda: comm.rank == 0)
+    with pytest.raises(PiceError, match=r"ranks \[0\] run on CPUs with fused multiply-add.*NUMBA_CPU_NAME=generic"):
+        C.refuse_mixed_arithmetic(comm)
+    monkeypatch.setattr(C, "compiles_fused_multiply_add", lambda: False)
+    C.refuse_mixed_arithmetic(comm)

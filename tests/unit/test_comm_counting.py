@@ -46,3 +46,24 @@ def test_a_counted_sheet_steps_as_the_plain_one():
     n = plain.p.n
     assert counted.p.n == n
     assert np.array_equal(plain.p.x[:n], counted.p.x[:n]) and np.array_equal(plain.p.v[:n], counted.p.v[:n])
+
+
+def test_fused_multiply_add_follows_numbas_cpu_settings(monkeypatch):
+    """compiles_fused_multiply_add: NUMBA_CPU_FEATURES decides when given, a named CPU has FMA unless
+    it is "generic", and the host's features decide otherwise (this machine's CPU: llvmlite's answer)."""
+    import llvmlite.binding as llvm
+    import numba
+
+    from pice.parallel.comm import compiles_fused_multiply_add
+
+    monkeypatch.setattr(numba.config, "CPU_NAME", None)
+    monkeypatch.setattr(numba.config, "CPU_FEATURES", None)
+    assert compiles_fused_multiply_add() == bool(llvm.get_host_cpu_features().get("fma", False))
+    monkeypatch.setattr(numba.config, "CPU_NAME", "generic")
+    assert not compiles_fused_multiply_add()
+    monkeypatch.setattr(numba.config, "CPU_NAME", "skylake")
+    assert compiles_fused_multiply_add()
+    monkeypatch.setattr(numba.config, "CPU_FEATURES", "+avx2,-fma")
+    assert not compiles_fused_multiply_add()
+    monkeypatch.setattr(numba.config, "CPU_FEATURES", "+avx2,+fma")
+    assert compiles_fused_multiply_add()
