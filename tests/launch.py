@@ -72,6 +72,30 @@ def descendants(pid: int) -> list[int]:
     return out
 
 
+def kill9_if(proc: subprocess.Popen, condition) -> bool:
+    """SIGKILL a started run if ``condition()`` holds while every process of it is stopped (SIGSTOP).
+
+    A run checked and then killed can pass the state looked for in between (a checkpoint written
+    after the check, say: seen in CI on a loaded machine). Stopped, it cannot: the files the
+    condition reads stay as they were when it held. Returns whether the run was killed; if not, it
+    continues (SIGCONT)."""
+    pids = [proc.pid, *descendants(proc.pid)]
+    for pid in pids:  # the launcher first, so that it does not react to its children stopping
+        try:
+            os.kill(pid, signal.SIGSTOP)
+        except ProcessLookupError:
+            continue
+    if condition():
+        kill9(proc)
+        return True
+    for pid in reversed(pids):
+        try:
+            os.kill(pid, signal.SIGCONT)
+        except ProcessLookupError:
+            continue
+    return False
+
+
 def alive(pid: int) -> bool:
     """Has the process a thread that is not yet dead (a zombie leader may have live threads)?"""
     try:

@@ -20,7 +20,7 @@ import time
 import h5py
 import numpy as np
 import pytest
-from launch import kill9, pice_run, run_cmd, start
+from launch import kill9_if, pice_run, run_cmd, start
 from scenes import contract_job, crushing_face_job
 
 from pice.io.checkpoint import default_path, read_checkpoint
@@ -66,12 +66,24 @@ def _last_row_step(run: pathlib.Path) -> int:
 def _wait(proc, condition, what: str, timeout: float = 120.0) -> None:
     t0 = time.monotonic()
     while not condition():
-        if proc.poll() is not None:
-            raise AssertionError(f"the run ended (status {proc.returncode}) before {what}: "
-                                 f"{proc.stderr.read()[-2000:]}")
-        if time.monotonic() - t0 > timeout:
-            raise AssertionError(f"timed out waiting for {what}")
+        _still_running(proc, t0, what, timeout)
         time.sleep(0.005)
+
+
+def _kill_when(proc, condition, what: str, timeout: float = 120.0) -> None:
+    """SIGKILL the run when ``condition()`` holds, checked again with the run stopped (kill9_if)."""
+    t0 = time.monotonic()
+    while not (condition() and kill9_if(proc, condition)):
+        _still_running(proc, t0, what, timeout)
+        time.sleep(0.005)
+
+
+def _still_running(proc, t0: float, what: str, timeout: float) -> None:
+    if proc.poll() is not None:
+        raise AssertionError(f"the run ended (status {proc.returncode}) before {what}: "
+                             f"{proc.stderr.read()[-2000:]}")
+    if time.monotonic() - t0 > timeout:
+        raise AssertionError(f"timed out waiting for {what}")
 
 
 def _final(run: pathlib.Path, steps: int = STEPS) -> dict:
@@ -98,9 +110,8 @@ class Killed:
         ckpt = default_path(self.run)
         proc = _start(self.job, self.run, ranks)
         # a checkpoint exists and the run file has rows beyond it: those must not appear twice
-        _wait(proc, lambda: (s := _ckpt_step(ckpt)) > 0 and _last_row_step(self.run) > s,
-              "a checkpoint and a series row after it")
-        kill9(proc)
+        _kill_when(proc, lambda: (s := _ckpt_step(ckpt)) > 0 and _last_row_step(self.run) > s,
+                   "a checkpoint and a series row after it")
         assert proc.returncode == -signal.SIGKILL
         _check_readable(self.run, ckpt)
         self.ckpt = folder / "killed.ckpt.saved.h5"
@@ -219,8 +230,9 @@ def test_sigkill_at_random_steps_leaves_run_file_and_checkpoint_readable(tmp_pat
                 ckpt_step, extra = targets[k]
                 proc, run = procs[k], runs[k]
                 assert proc.poll() is None, f"the run ended ({proc.returncode}) before it was killed: {proc.stderr.read()}"
-                if _ckpt_step(default_path(run)) >= ckpt_step and _last_row_step(run) >= ckpt_step + extra:
-                    kill9(proc)
+                def reached(run=run, ckpt_step=ckpt_step, extra=extra):
+                    return _ckpt_step(default_path(run)) >= ckpt_step and _last_row_step(run) >= ckpt_step + extra
+                if reached() and kill9_if(proc, reached):
                     waiting.discard(k)
             time.sleep(0.005)
         for run, (ckpt_step, _) in zip(runs, targets):
@@ -274,8 +286,7 @@ def _kill_at_checkpoint(job: pathlib.Path, run: pathlib.Path, wanted: set[int]) 
     place whole). The wanted steps are consecutive checkpoints, so the kill has hundreds of steps to
     land in; returns the step of the checkpoint the killed run leaves."""
     proc = _start(job, run, 1)
-    _wait(proc, lambda: _ckpt_step(default_path(run)) in wanted, f"a checkpoint at one of the steps {sorted(wanted)}")
-    kill9(proc)
+    _kill_when(proc, lambda: _ckpt_step(default_path(run)) in wanted, f"a checkpoint at one of the steps {sorted(wanted)}")
     step = _ckpt_step(default_path(run))
     assert step in wanted, (step, sorted(wanted))
     return step

@@ -149,12 +149,16 @@ def test_flexural_strength_within_5_percent(d):
     assert beam["inertia"] < 0.01
 
 
+CLAMP_CONCENTRATION = pytest.mark.xfail(
+    reason="measured 0.931, 0.951, 0.931 x sigma_f at d = 0.5, 1, 2 m: the clamp concentrates the root moment (the "
+           "odd rows, held d/2 further than the even ones, take 10 % more than the beam moment at their first free "
+           "bond), a property of the specimen, not of the bond calibration: the three-point sigma_f of the same "
+           "sheet is within 5 %", strict=True)
+
+
 @pytest.mark.slow
-@pytest.mark.xfail(reason="measured 0.931, 0.951, 0.931 x sigma_f at d = 0.5, 1, 2 m: the clamp concentrates the "
-                          "root moment (the odd rows, held d/2 further than the even ones, take 10 % more than the "
-                          "beam moment at their first free bond), a property of the specimen, not of the bond "
-                          "calibration: the three-point sigma_f of the same sheet is within 5 %", strict=False)
-@pytest.mark.parametrize("d", ELEMENT_SIZES)
+@pytest.mark.parametrize("d", [pytest.param(0.5, marks=CLAMP_CONCENTRATION), 1.0,
+                               pytest.param(2.0, marks=CLAMP_CONCENTRATION)])
 def test_cantilever_flexural_strength_within_5_percent(d):
     """sigma_f = 6 F L / (b h^2) at the root of the in-situ cantilever at its first break."""
     assert _lab(d)["cantilever"]["flexural_strength"] == pytest.approx(SIGMA_F, rel=0.05)
