@@ -99,7 +99,7 @@ class FusedStep:
         self.rows = {name: np.array(getattr(b, name), float).reshape(1, -1) for name in _STATE}
         for name, row in self.rows.items():
             setattr(b, name, row[0])
-        self.views = tuple(self.rows[name][0] for name in _STATE)
+        self.views = tuple(getattr(b, name) for name in _STATE)  # the very objects (row[0] makes a new view)
 
     def _bound(self) -> None:
         b, views = self.body, self.views
