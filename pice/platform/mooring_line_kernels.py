@@ -322,3 +322,14 @@ def line_energies(x, v, mass, prev, seg, props, added_mass, tangent):
         if l > l0:
             elastic += 0.5 * el["ea"] / l0 * (l - l0) ** 2
     return kinetic, elastic
+
+
+@njit(**JIT)
+def node_force_norms(force, nodes):
+    """(k,) |force[nodes[i]]| [N]: the tension at the fairleads or anchors, each step without numpy's
+    per-call overhead (the peaks between series rows are tracked every step)."""
+    out = np.empty(len(nodes))
+    for k in range(len(nodes)):
+        f = force[nodes[k]]
+        out[k] = math.sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2])
+    return out

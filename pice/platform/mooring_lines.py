@@ -21,7 +21,7 @@ import numpy as np
 from .catenary import Segment, profile, solve_line
 from .sea import SeaComponents, still_water
 from .mooring_line_kernels import (FIXED, FREE, PRESCRIBED, advance_lines, line_energies, line_forces, node_constants,
-                                   relax_lines)
+                                   node_force_norms, relax_lines)
 from .wave_intervals import WAVE_FIELDS, node_waves
 
 # One element (bond) of a DEM line: axial stiffness ea [N], unstretched length l0 [m], hydrodynamic
@@ -180,10 +180,12 @@ class MooringLines:
         return self.force[nodes].copy()
 
     def fairlead_tensions(self) -> np.ndarray:
-        return np.linalg.norm(self.reactions(self.fairleads), axis=1)
+        """(n_lines,) |reaction| [N] at each fairlead."""
+        return node_force_norms(self.force, self.fairleads)
 
     def anchor_tensions(self) -> np.ndarray:
-        return np.linalg.norm(self.reactions(self.anchors), axis=1)
+        """(n_lines,) |reaction| [N] at each anchor."""
+        return node_force_norms(self.force, self.anchors)
 
     def polylines(self) -> tuple[np.ndarray, np.ndarray]:
         """(n_nodes, 3) node positions [m] (each line's nodes contiguous, anchor first) and the line

@@ -234,6 +234,8 @@ class Platform:
 
     def fairlead_tensions(self) -> np.ndarray:
         """(n_lines,) tension [N] at every fairlead, groups in order."""
+        if len(self.groups) == 1:
+            return self.groups[0].lines.fairlead_tensions()
         return np.concatenate([g.lines.fairlead_tensions() for g in self.groups]) if self.groups else np.zeros(0)
 
     def anchor_tensions(self) -> np.ndarray:
