@@ -70,6 +70,18 @@ def body_loads(vertices, triangles, braces, brace_slices, x, v, q, L, mass, iner
     add_line_pull(line, body, point, q, lforce[fairleads], free, force, torque, total)
 
 
+@njit(**JIT)
+def body_pose(x, q, v, L, inertia):
+    """(1, 13) x, q, v, omega of the body (RigidBody.pose_vector): a new array, as the poses' broadcast
+    holds it while it travels."""
+    out = np.empty((1, 13))
+    out[0, 0:3] = x[0]
+    out[0, 3:7] = q[0]
+    out[0, 7:10] = v[0]
+    out[0, 10:13] = angular_velocity(q[0], L[0], inertia)
+    return out
+
+
 class FusedStep:
     """Platform.kick, drift and loads of one free body on one group of DEM lines in still water
     (``applies``; anything else takes Platform's general path)."""
@@ -106,6 +118,12 @@ class FusedStep:
         if not (b.x is views[0] and b.v is views[1] and b.q is views[2] and b.L is views[3] and b.force is views[4]
                 and b.torque is views[5]):
             self.pack()
+
+    def poses(self) -> np.ndarray:
+        """(1, 13) the body's pose (Platform.poses)."""
+        self._bound()
+        r = self.rows
+        return body_pose(r["x"], r["q"], r["v"], r["L"], self.inertia)
 
     def kick(self, half_dt: float) -> None:
         self._bound()

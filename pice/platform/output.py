@@ -7,8 +7,27 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
+from ..kernels import JIT
 from .rigid_body import euler_angles
+
+
+@njit(**JIT)
+def _track(ice, tension, ice_sum, ice_max, ice_min, tension_max):
+    """The running sum and extremes of the loads ``ice`` (n, 3) [N] and tensions (k,) [N], in place; a
+    NaN sticks, as with np.maximum (the health check names it)."""
+    for i in range(ice.shape[0]):
+        for j in range(ice.shape[1]):
+            x = ice[i, j]
+            ice_sum[i, j] += x
+            if x > ice_max[i, j] or x != x:
+                ice_max[i, j] = x
+            if x < ice_min[i, j] or x != x:
+                ice_min[i, j] = x
+    for k in range(len(tension)):
+        if tension[k] > tension_max[k] or tension[k] != tension[k]:
+            tension_max[k] = tension[k]
 
 
 class Peaks:
@@ -25,10 +44,7 @@ class Peaks:
                              tension_max=tension.copy())
             return
         d["n"] += 1
-        d["ice_sum"] += ice
-        np.maximum(d["ice_max"], ice, out=d["ice_max"])
-        np.minimum(d["ice_min"], ice, out=d["ice_min"])
-        np.maximum(d["tension_max"], tension, out=d["tension_max"])
+        _track(ice, tension, d["ice_sum"], d["ice_max"], d["ice_min"], d["tension_max"])
 
     def take(self) -> dict | None:
         """The statistics so far (None if nothing was tracked), and start again."""

@@ -122,6 +122,8 @@ class Platform:
 
     def poses(self) -> np.ndarray:
         """(n_bodies, 13): x, q, v, omega of each body (what rank 0 broadcasts)."""
+        if self.fused is not None:
+            return self.fused.poses()
         return np.array([b.pose_vector() for b in self.bodies]).reshape(len(self.bodies), 13)
 
     # -- the step ------------------------------------------------------------------------------

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import pathlib
 import random
+import re
 import shutil
 import signal
 import time
@@ -101,11 +102,11 @@ def _final(run: pathlib.Path, steps: int = STEPS) -> dict:
 class Killed:
     """A run SIGKILLed after a checkpoint, its files saved at that moment, and the uninterrupted run."""
 
-    def __init__(self, folder: pathlib.Path, ranks: int):
+    def __init__(self, folder: pathlib.Path, ranks: int, job: pathlib.Path | None = None):
         self.folder, self.ranks = folder, ranks
-        self.job = demo_job(folder)
+        self.job = job or demo_job(folder)
         self.reference = folder / "reference.h5"
-        _run(self.job, self.reference, ranks)
+        self.reference_log = _run(self.job, self.reference, ranks).stderr
         self.run = folder / "killed.h5"
         ckpt = default_path(self.run)
         proc = _start(self.job, self.run, ranks)
@@ -164,6 +165,22 @@ def test_restart_after_sigkill_is_bitwise_on_one_rank(killed1):
 
 def test_restart_after_sigkill_is_bitwise_on_two_ranks(killed2):
     _assert_bitwise(_final(killed2.restarted(2, "restarted")), _final(killed2.reference))
+
+
+def test_restart_under_balance_by_work_is_bitwise_on_two_ranks(tmp_path):
+    """``balance_by = "work"`` (physics/work.py) moves the cuts from the state alone, so a restarted run
+    must move them as the run never killed did. The fracturing demo on 2 ranks with the work checked
+    every 400 steps and a threshold of 1.001 moves its cuts before its checkpoints (the reference run's
+    log says so, and where); killed after a checkpoint and restarted, it ends bit for bit as that run."""
+    job = demo_job(tmp_path)
+    text = job.read_text().replace("[parallel]\nbalance_every = 400\n",
+                                   '[parallel]\nbalance_every = 400\nbalance_by = "work"\nimbalance_threshold = 1.001\n')
+    assert 'balance_by = "work"' in text
+    job.write_text(text)
+    killed = Killed(tmp_path, 2, job)
+    moves = [int(m) for m in re.findall(r"step (\d+): load balance of the modelled work", killed.reference_log)]
+    assert moves and min(moves) < killed.step, (moves, killed.step)  # the cuts moved before the checkpoint
+    _assert_bitwise(_final(killed.restarted(2, "restarted")), _final(killed.reference))
 
 
 def test_restart_on_another_rank_count_agrees_within_1e9(killed1, killed2):

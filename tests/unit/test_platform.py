@@ -97,6 +97,7 @@ def test_the_fused_step_gives_the_general_paths_bits(restart):
         assert np.array_equal(one[key], value), key
     assert np.array_equal(fused.mooring_force, general.mooring_force)
     assert np.array_equal(fused.fairlead_tensions(), general.fairlead_tensions())
+    assert np.array_equal(fused.poses(), general.poses())  # what rank 0 broadcasts
 
 
 def test_the_fused_step_packs_the_body_once():
@@ -202,3 +203,31 @@ def test_points_inside_a_hull():
     z_pontoon, z_column = -8.9 + 4.0, 0.0
     assert inside([[0.0, 64.6 / 2 - 7.0, z_pontoon], [-(86.2 - 16.68) / 2, -(64.6 - 16.68) / 2, z_column]], v, t).all()
     assert not inside([[0.0, 0.0, z_pontoon], [0.0, 0.0, z_column], [0.0, 64.6 / 2 - 7.0, z_column]], v, t).any()
+
+
+def test_peaks_between_rows_are_the_extremes_and_mean_of_every_step():
+    """platform/output.Peaks (compiled): over the steps since the last row, the mean, largest and
+    smallest ice load of each body and the largest tension of each line, as numpy reduces the
+    whole record (sums in the same order: the same bits); a NaN load sticks, as np.maximum's does."""
+    from pice.platform.output import Peaks
+
+    rng = np.random.default_rng(7)
+    loads = rng.normal(0.0, 1e6, (50, 2, 6))[:, :, :3]  # a view of (n, 6), as the simulation hands it
+    tensions = rng.uniform(0.0, 5e6, (50, 12))
+    peaks = Peaks()
+    for f, t in zip(loads, tensions):
+        peaks.track(f, t)
+    d = peaks.take()
+    assert d["n"] == 50 and peaks.take() is None
+    total = loads[0].copy()
+    for f in loads[1:]:
+        total += f
+    assert np.array_equal(d["ice_sum"], total)
+    assert np.array_equal(d["ice_max"], loads.max(axis=0)) and np.array_equal(d["ice_min"], loads.min(axis=0))
+    assert np.array_equal(d["tension_max"], tensions.max(axis=0))
+    bad = loads[1].copy()
+    bad[0, 0] = np.nan
+    for f in (loads[0], bad, loads[2]):
+        peaks.track(f, tensions[0])
+    d = peaks.take()
+    assert np.isnan(d["ice_max"][0, 0]) and np.isnan(d["ice_min"][0, 0]) and not np.isnan(d["ice_max"][1, 0])
