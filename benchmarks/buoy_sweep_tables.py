@@ -1,12 +1,16 @@
 """The grids docs/buoy_design.md sets beside Cai (2018) Tables 6-4 to 6-9, read from a buoy sweep's folder.
 
-    python benchmarks/buoy_sweep_tables.py [jobs/cai_2018_buoy_sweep.toml] [--out RUNS_DIR]
+    python benchmarks/buoy_sweep_tables.py [jobs/cai_2018_buoy_sweep.toml] [--out RUNS_DIR] [--extreme-also DIR ...]
 
 Rows: the hull angle alpha 30-70 deg; columns: D_max 7-10.5 m (Table 6-1). Each cell: our value and,
 in brackets, the thesis's (seed 004, Tables 6-4 to 6-9, typed in below; "-": not in its table, "*":
 overturned). A finished phase is read from its study.json; a phase still running from its finished
 designs' run files (pice.study.metrics.run_metrics, the metrics the study's table uses), judged by
 the sweep file's criteria for that phase. Markdown on stdout.
+
+--extreme-also: folders of other studies with an "extreme" phase (a sweep file of the extreme phase
+alone, run on designs the sweep did not keep, such as the thesis's survivors of its normal phase),
+whose designs join the extreme grids.
 """
 
 import argparse
@@ -134,6 +138,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("sweep", nargs="?", default="jobs/cai_2018_buoy_sweep.toml")
     parser.add_argument("--out", help="the sweep's folder (default: the sweep file's out)")
+    parser.add_argument("--extreme-also", nargs="*", default=[], metavar="DIR",
+                        help="folders of extreme-phase studies whose designs join the extreme grids")
     args = parser.parse_args(argv)
     sweep = load_sweep(args.sweep)
     out = pathlib.Path(args.out or pathlib.Path(args.sweep).parent / sweep.out)
@@ -141,6 +147,8 @@ def main(argv=None):
     lines = []
     sn, normal = load(out, "normal", criteria.get("normal", ()))
     se, extreme = load(out, "extreme", criteria.get("extreme", ()))
+    for other in args.extreme_also:
+        extreme.update(load(other, "extreme", criteria.get("extreme", ()))[1])
     passed = lambda v: bool(v.get("passed"))  # noqa: E731
     rim_ok = lambda v: v["metrics"]["min_rim_freeboard"] > 0  # noqa: E731
     if normal:
