@@ -52,6 +52,8 @@ NUMBER = {"max_heel_deg": "1", "draft_m": "3", "min_rim_freeboard_m": "4", "max_
 def load(out, phase, criteria=()):
     """(the phase's study dict, {(alpha, D_max): variant row}); ``criteria`` judge a running phase."""
     p = pathlib.Path(out) / phase / "study.json"
+    if not p.parent.is_dir():
+        return {"busy": "(not run)"}, {}
     if not p.exists():  # the phase is still running: its finished designs, metrics from their run files
         from pice.study.metrics import run_metrics
         by = {}
@@ -147,8 +149,14 @@ def main(argv=None):
     lines = []
     sn, normal = load(out, "normal", criteria.get("normal", ()))
     se, extreme = load(out, "extreme", criteria.get("extreme", ()))
+    busy = [f"{out}: {se.get('busy')}"]
     for other in args.extreme_also:
-        extreme.update(load(other, "extreme", criteria.get("extreme", ()))[1])
+        if not (pathlib.Path(other) / "extreme").is_dir():
+            parser.error(f"--extreme-also {other}: no extreme/ folder in it; give the --out of a study whose "
+                         "sweep file has a phase named extreme")
+        so, more = load(other, "extreme", criteria.get("extreme", ()))
+        extreme.update(more)
+        busy.append(f"{other}: {so.get('busy')}")
     passed = lambda v: bool(v.get("passed"))  # noqa: E731
     rim_ok = lambda v: v["metrics"]["min_rim_freeboard"] > 0  # noqa: E731
     if normal:
@@ -166,7 +174,7 @@ def main(argv=None):
                       "{:.2f}", passed, T68)
         lines += grid("Mass of the designs kept [t] (Table 6-9)", {k: v for k, v in extreme.items() if passed(v)},
                       "mass", "{:.2f}", passed, T69)
-        lines.append(f"extreme: {sum(map(passed, extreme.values()))} of {len(extreme)} passed; busy {se.get('busy')}")
+        lines.append(f"extreme: {sum(map(passed, extreme.values()))} of {len(extreme)} passed; busy " + "; ".join(busy))
     print("\n".join(lines) if lines else f"{out}: no phase past the draft has a finished design yet")
     return 0
 

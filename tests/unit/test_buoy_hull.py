@@ -58,6 +58,15 @@ def test_designs_of_tables_4_2_and_6_10():
     assert STEEL * 0.0619 * area / 1e3 == pytest.approx(61.27, abs=0.005)  # Table 6-9 [t]
 
 
+@pytest.mark.parametrize("d_max, alpha, tonnes", [(7.5, 65.0, 61.27), (8.0, 60.0, 66.34), (9.0, 60.0, 82.00),
+                                                  (10.0, 60.0, 99.19), (10.5, 55.0, 105.69)])
+def test_shell_weights_of_table_6_9(d_max, alpha, tonnes):
+    """Every weight of Table 6-9 (the thesis's qualified designs) from the shell of 0.0619 m steel, to the
+    table's two decimals (0.005 t: its rounding)."""
+    area = revolved_shell(buoy_design_profile(d_max=d_max, alpha_deg=alpha), areal_density=1.0)[0]
+    assert STEEL * 0.0619 * area / 1e3 == pytest.approx(tonnes, abs=0.005)
+
+
 def test_the_job_reproduces_its_hand_computed_buoy():
     job = load_job(JOB)
     v, t = hull_mesh(job, 0)
