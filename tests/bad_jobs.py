@@ -195,6 +195,9 @@ CASES = [
     case("keel_too_narrow", NO_ICE + WATER + "[keel]\nwidth = 12.0\nlength = 30.0\n",
          "keel.width = 12.0: the sides at pile_angle = 30 deg meet above the keel's depth 5 m",
          "give width >= 17.23 m (a triangle)"),
+    case("keel_two_dashpots", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n"
+         "contact = {damping = 1.75e4, damping_ratio = 0.3}\n",
+         "keel.contact.damping_ratio = 0.3: damping is given too", "remove one"),
     # --- the ship of seed 002 (issue 15): a "ship" hull from Table 1's main dimensions (pice/platform/ship.py)
     case("ship_midbody_longer_than_length", BASE + WATER + SHIP.replace("midbody = 67.5", "midbody = 160.0"),
          "bodies[0].hull.midbody = 160.0: must be < length = 150 m"),

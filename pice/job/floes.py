@@ -17,9 +17,19 @@ class FloeContactSpec(Section):
 
     normal_stiffness: quantity("N/m") = 1.3e6
     damping: quantity("N s/m", gt=None, ge=0.0) = 2.6e6          # c_n of the normal dashpot
+    # or the dashpot as a fraction of each pair's critical damping 2 sqrt(m_eff k_n) (one of the two):
+    # the same restitution for light and heavy pairs, where one c_n over-damps the light ones
+    damping_ratio: quantity("", gt=None, ge=0.0, lt=1.0) | None = None
     tangential_stiffness: quantity("N/m", gt=None, ge=0.0) = 0.78e6
     friction: quantity("", gt=None, ge=0.0) = 0.3
     compressive_strength: quantity("Pa") = 2.5e6                  # the plastic limit sigma_c A_c
+
+    @model_validator(mode="after")
+    def _one_dashpot(self):
+        if self.damping_ratio is not None and "damping" in self.model_fields_set:
+            raise ValueError("damping_ratio: damping is given too; the dashpot is one of the two, a coefficient c_n "
+                             "[N s/m] for every pair or a fraction of each pair's critical damping: remove one")
+        return self
 
 
 class FloesSpec(Section):

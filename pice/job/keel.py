@@ -29,15 +29,31 @@ class BlocksSpec(Section):
         return self
 
 
-# block-block and block-cover contact: seed 003's law (kernels/contact_law.py) with seed 002's penalty term
-# read as a stiffness in N/m, k_t at 0.6 k_n as seed 003's ratio, and a dashpot of 0.3 of critical for
-# two blocks of 1 m x 0.615 m x 0.3 m (m_eff 84.9 kg: 2 x 0.3 sqrt(84.9 x 1e7) = 1.75e4 N s/m); no
-# crushing, as seed 002's elastic-viscous contact: a plastic limit that never binds (a corner's tiny
-# contact area would otherwise cap its force and let it crush centimetres into a wall); assumptions,
-# docs/ridge_keel.md ("Contact")
 NO_CRUSHING = 1.0e15  # [Pa]
-KEEL_CONTACT = FloeContactSpec(normal_stiffness=1.0e7, damping=1.75e4, tangential_stiffness=0.6e7, friction=0.3,
-                               compressive_strength=NO_CRUSHING)
+
+
+class KeelContactSpec(FloeContactSpec):
+    """[keel.contact]: block-block and block-cover contact, seed 003's law (kernels/contact_law.py) with
+    its defaults for rubble (assumptions, docs/ridge_keel.md "Contact"): seed 002's penalty term read
+    as k_n = 1e7 N/m, k_t = 0.6 k_n (seed 003's ratio), a dashpot of 0.3 of each pair's critical
+    damping (for two blocks of 1 m x 0.615 m x 0.3 m, m_eff 84.9 kg, c_n = 1.75e4 N s/m; a ``damping``
+    given instead is one c_n for every pair), and no crushing, as seed 002's elastic-viscous contact: a
+    plastic limit that never binds (a corner's tiny contact area would otherwise cap its force and let
+    it crush centimetres into a wall)."""
+
+    normal_stiffness: quantity("N/m") = 1.0e7
+    damping: quantity("N s/m", gt=None, ge=0.0) = 1.75e4  # used only when given (then instead of the ratio)
+    damping_ratio: quantity("", gt=None, ge=0.0, lt=1.0) | None = 0.3
+    tangential_stiffness: quantity("N/m", gt=None, ge=0.0) = 0.6e7
+    compressive_strength: quantity("Pa") = NO_CRUSHING
+
+    @model_validator(mode="before")
+    @classmethod
+    def _given_damping(cls, data):
+        """A c_n given without a ratio replaces the default ratio."""
+        if isinstance(data, dict) and "damping" in data and "damping_ratio" not in data:
+            data = {**data, "damping_ratio": None}
+        return data
 
 
 TRIANGLE_SLACK = 0.005  # a width this fraction short of the triangle's is the triangle (its tip cut)
@@ -64,7 +80,7 @@ class KeelSpec(Section):
     cover: Real = 0.0
     seed: count(0) = 0
     blocks: BlocksSpec = BlocksSpec()
-    contact: FloeContactSpec = KEEL_CONTACT
+    contact: KeelContactSpec = KeelContactSpec()
     settle_speed: quantity("m/s") = 2.0e-3
     settle_time: quantity("s") = 120.0
     step_fraction: quantity("", le=0.2) = 0.1  # the step: this fraction of the shortest contact, m_eff / c_n

@@ -7,7 +7,8 @@ area A_c and the depth delta = V / A_c, at the overlap's centroid. The law is th
 contact in pice (kernels/contact_law.py): F_n = k_n (delta - delta_p) - c_n u_n, 0 <= F_n <= sigma_c A_c
 (the excess becomes plastic penetration delta_p), and a tangential spring capped at mu F_n. The
 dashpot is given as a coefficient c_n [N s/m] (seed 003, Table 3), passed to the law as the damping
-ratio c_n / (2 sqrt(m_eff k_n)) of the pair's m_eff = m_a m_b / (m_a + m_b). b receives F_n n + h
+ratio c_n / (2 sqrt(m_eff k_n)) of the pair's m_eff = m_a m_b / (m_a + m_b), or as that ratio itself,
+zr >= 0, the same for every pair (the keel's rubble; a negative zr takes c_n). b receives F_n n + h
 at the overlap's centroid, a the opposite: linear momentum is conserved exactly, and angular
 momentum too (both act at one point).
 
@@ -41,7 +42,7 @@ STRUCTURE_RECORD = 13
 
 
 @njit(**JIT)
-def floe_contacts(n, lo, hi, gid, x, v, omega, mass, bound, pts, counts, kn, cn, kt, mu, pressure, dt, step,
+def floe_contacts(n, lo, hi, gid, x, v, omega, mass, bound, pts, counts, kn, cn, zr, kt, mu, pressure, dt, step,
                   cgid, stamp, hist, records):
     """The contacts of every overlapping pair (i, j), i in [lo, hi) and j > i, of the n floes, as pair
     records (module docstring) in ``records`` (m, PAIR_RECORD); the candidates come from a cell list of
@@ -62,13 +63,13 @@ def floe_contacts(n, lo, hi, gid, x, v, omega, mass, bound, pts, counts, kn, cn,
             j = near[q]
             if j > i:
                 nrec, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn,
-                                              kt, mu, pressure, dt, step, cgid, stamp, hist, records,
+                                              zr, kt, mu, pressure, dt, step, cgid, stamp, hist, records,
                                               nrec, nplastic, worst)
     return nrec, nplastic, worst
 
 
 @njit(**JIT)
-def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, mu, pressure, dt, step, cgid,
+def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, zr, kt, mu, pressure, dt, step, cgid,
           stamp, hist, records, nrec, nplastic, worst):
     """The contact of floes i and j, if they overlap (``floe_contacts``); returns the updated counts."""
     d0, d1, d2 = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2]  # scalars: no temporaries
@@ -100,7 +101,7 @@ def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, 
     h2 = hist[a, s, 2] if found else 0.0
     dp0 = hist[a, s, 3] if found else 0.0
     m_eff = mass[a] * mass[b] / (mass[a] + mass[b])
-    zeta = cn / (2.0 * math.sqrt(m_eff * kn)) if kn > 0.0 else 0.0
+    zeta = _ratio(cn, zr, m_eff, kn)
     fn, dp = plastic_normal_force(kn, zeta, m_eff, depth, dp0, un, pressure * area)
     t0, t1, t2, _ = tangential_force(h0, h1, h2, n0, n1, n2, u0, u1, u2, un, kt, dt, mu * fn)
     if dp > dp0:
@@ -118,6 +119,15 @@ def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, kt, 
         r[5], r[6], r[7] = -(ra1 * f2 - ra2 * f1), -(ra2 * f0 - ra0 * f2), -(ra0 * f1 - ra1 * f0)
         r[8], r[9], r[10] = rb1 * f2 - rb2 * f1, rb2 * f0 - rb0 * f2, rb0 * f1 - rb1 * f0
     return nrec + 1, nplastic, worst
+
+
+@njit(**JIT)
+def _ratio(cn, zr, m_eff, kn):
+    """The pair's damping ratio: zr when zr >= 0 (a ratio for every pair), else that of the one
+    coefficient cn [N s/m] on m_eff [kg] and kn [N/m]."""
+    if zr >= 0.0:
+        return zr
+    return cn / (2.0 * math.sqrt(m_eff * kn)) if kn > 0.0 else 0.0
 
 
 @njit(**JIT)
@@ -166,7 +176,7 @@ def apply_structure_records(records, nrec, force, torque, load):
 
 @njit(**JIT)
 def structure_contacts(lo, hi, x, v, omega, mass, bound, pts, counts, s_pts, s_counts, s_centre, s_bound, s_v, s_w,
-                       kn, cn, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist, records):
+                       kn, cn, zr, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist, records):
     """The contact of every floe in [lo, hi) with a convex structure (s_pts, s_counts: its faces in
     space; s_centre [m]: its reference point, the centre of its bounding sphere of radius s_bound and
     of its motion: velocity s_v [m/s] and angular velocity s_w [rad/s] there; zero for a fixed one):
@@ -185,13 +195,13 @@ def structure_contacts(lo, hi, x, v, omega, mass, bound, pts, counts, s_pts, s_c
             continue
         # the structure's normal points from the floe towards it; the law's normal from it to the floe
         nrec, nplastic = _on_structure(i, c, -nrm[0], -nrm[1], -nrm[2], area, depth, x, v, omega, mass, s_centre,
-                                       s_v, s_w, kn, cn, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist,
+                                       s_v, s_w, kn, cn, zr, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist,
                                        records, nrec, nplastic)
     return nrec, nplastic
 
 
 @njit(**JIT)
-def _on_structure(i, c, n0, n1, n2, area, depth, x, v, omega, mass, s_centre, s_v, s_w, kn, cn, kt, mu, pressure,
+def _on_structure(i, c, n0, n1, n2, area, depth, x, v, omega, mass, s_centre, s_v, s_w, kn, cn, zr, kt, mu, pressure,
                   dt, step, slot_gid, cgid, stamp, hist, records, nrec, nplastic):
     """The law on floe i against a structure at contact point c [m], normal (n0, n1, n2) from the
     structure towards the floe, contact area [m^2] and depth [m]; one structure record."""
@@ -204,7 +214,7 @@ def _on_structure(i, c, n0, n1, n2, area, depth, x, v, omega, mass, s_centre, s_
     h1 = hist[i, s, 1] if found else 0.0
     h2 = hist[i, s, 2] if found else 0.0
     dp0 = hist[i, s, 3] if found else 0.0
-    zeta = cn / (2.0 * math.sqrt(mass[i] * kn)) if kn > 0.0 else 0.0
+    zeta = _ratio(cn, zr, mass[i], kn)
     fn, dp = plastic_normal_force(kn, zeta, mass[i], depth, dp0, un, pressure * area)
     t0, t1, t2, _ = tangential_force(h0, h1, h2, n0, n1, n2, u[0], u[1], u[2], un, kt, dt, mu * fn)
     if dp > dp0:
@@ -228,7 +238,7 @@ def _on_structure(i, c, n0, n1, n2, area, depth, x, v, omega, mass, s_centre, s_
 
 
 @njit(**JIT)
-def plane_contacts(lo, hi, x, v, omega, mass, pts, counts, normal, offset, kn, cn, kt, mu, pressure, dt, step,
+def plane_contacts(lo, hi, x, v, omega, mass, pts, counts, normal, offset, kn, cn, zr, kt, mu, pressure, dt, step,
                    slot_gid, cgid, stamp, hist, records):
     """The contact of every floe in [lo, hi) with a fixed wall filling the half-space normal . x >= offset
     (normal (3,) a unit vector into the wall): the floe's part inside the wall is the overlap
@@ -252,6 +262,6 @@ def plane_contacts(lo, hi, x, v, omega, mass, pts, counts, normal, offset, kn, c
         if vol <= 0.0 or area <= 0.0:
             continue
         nrec, nplastic = _on_structure(i, c, into[0], into[1], into[2], area, vol / area, x, v, omega, mass, zero,
-                                       zero, zero, kn, cn, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist,
+                                       zero, zero, kn, cn, zr, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist,
                                        records, nrec, nplastic)
     return nrec, nplastic

@@ -225,8 +225,7 @@ def floes_from_job(job, hulls, poses, *, comm) -> FloeSystem:
     except ValueError as exc:
         raise JobError(f"{job.source}: floes: {exc}") from None
     c = spec.contact
-    law = FloeLaw(kn=c.normal_stiffness, cn=c.damping, kt=c.tangential_stiffness, mu=c.friction,
-                  pressure=c.compressive_strength)
+    law = FloeLaw.from_spec(c)
     fw = FloeWater(density=water.density, level=water.level, gravity=job.gravity, current=tuple(water.current),
                    skin=spec.skin_drag_coefficient, form=spec.form_drag_coefficient, damping_ratio=spec.damping_ratio,
                    sea=sea_from_job(job))
@@ -307,7 +306,8 @@ def contact_steps(law, m: float, fraction: float) -> tuple[float, float]:
     """(the stability limit [s] of the lightest contact: two pieces of mass m [kg], or one against a
     structure; ``fraction`` of that pair's contact time m_eff / c_n [s], inf without a dashpot)."""
     stable = min(contact_step_limit(law, 0.5 * m), contact_step_limit(law, m))
-    return stable, (fraction * 0.5 * m / law.cn if law.cn > 0 else math.inf)
+    cn = law.damping(0.5 * m)  # with a damping ratio, m_eff / c_n grows as sqrt(m_eff): the lightest pair's is least
+    return stable, (fraction * 0.5 * m / cn if cn > 0 else math.inf)
 
 
 def floe_time_step(job, system: FloeSystem | None) -> StepLimit:
@@ -328,13 +328,14 @@ def floe_time_step(job, system: FloeSystem | None) -> StepLimit:
     key, fraction = ("floes", job.floes.step_fraction) if job.floes is not None else ("keel", job.keel.step_fraction)
     stable, accurate = contact_steps(law, m, fraction)
     limit = choose_step(requested=run.dt, safety=run.dt_safety, stable=stable,
-                        governed_by=f"floe contact, k_n {law.kn:.3g} N/m, c_n {law.cn:.3g} N s/m, m_eff {0.5 * m:.4g} kg",
+                        governed_by=f"floe contact, k_n {law.kn:.3g} N/m, c_n {law.damping(0.5 * m):.3g} N s/m, "
+                                    f"m_eff {0.5 * m:.4g} kg",
                         allow_unstable=run.allow_unstable_dt, source=job.source)
     if run.dt == "auto":
         if accurate < limit.chosen:
             return StepLimit(stable=stable, chosen=accurate, safety=accurate / stable,
                              governed_by=f"{key}.step_fraction {fraction:g} of the contact time "
-                                         f"m_eff / c_n = {0.5 * m / law.cn:.4g} s")
+                                         f"m_eff / c_n = {0.5 * m / law.damping(0.5 * m):.4g} s")
     return limit
 
 

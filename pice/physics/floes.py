@@ -52,13 +52,26 @@ class FloeWater:
 
 @dataclass
 class FloeLaw:
-    """Seed 003's contact parameters (Table 3): k_n [N/m], c_n [N s/m], k_t [N/m], mu, sigma_c [Pa]."""
+    """Seed 003's contact parameters (Table 3): k_n [N/m], c_n [N s/m], k_t [N/m], mu, sigma_c [Pa];
+    zeta >= 0 replaces c_n by that fraction of each pair's critical damping 2 sqrt(m_eff k_n)
+    (negative: c_n for every pair)."""
 
     kn: float = 1.3e6
     cn: float = 2.6e6
     kt: float = 0.78e6
     mu: float = 0.3
     pressure: float = 2.5e6
+    zeta: float = -1.0
+
+    def damping(self, m_eff: float) -> float:
+        """c_n [N s/m] of a pair of effective mass m_eff [kg]."""
+        return 2.0 * self.zeta * math.sqrt(m_eff * self.kn) if self.zeta >= 0.0 else self.cn
+
+    @classmethod
+    def from_spec(cls, c) -> "FloeLaw":
+        """The law of a [floes.contact] or [keel.contact] table (job/floes.FloeContactSpec)."""
+        return cls(kn=c.normal_stiffness, cn=c.damping, kt=c.tangential_stiffness, mu=c.friction,
+                   pressure=c.compressive_strength, zeta=-1.0 if c.damping_ratio is None else c.damping_ratio)
 
 
 def prism_inertia(polygon: np.ndarray, thickness: float, density: float):
@@ -235,8 +248,8 @@ class Floes:
         law = self.law
         rec = np.empty((RECORDS_PER_FLOE * max(hi - lo, 1), PAIR_RECORD))
         nrec, nplastic, worst = floe_contacts(len(self.mass), lo, hi, self.gid, self.x, self.v, omega, self.mass,
-                                              self.bound, pts, counts, law.kn, law.cn, law.kt, law.mu, law.pressure,
-                                              dt, self.step_count, self.cgid, self.stamp, self.hist, rec)
+                                              self.bound, pts, counts, law.kn, law.cn, law.zeta, law.kt, law.mu,
+                                              law.pressure, dt, self.step_count, self.cgid, self.stamp, self.hist, rec)
         _refuse_overflow(nrec, rec, "floe-floe")
         return rec, nrec, nplastic, worst
 
@@ -247,14 +260,14 @@ class Floes:
         if st.get("plane") is not None:
             normal, offset = st["plane"]
             nrec, nplastic = plane_contacts(lo, hi, self.x, self.v, omega, self.mass, pts, counts, normal, offset,
-                                            law.kn, law.cn, law.kt, law.mu, law.pressure, dt, self.step_count,
-                                            -1 - k, self.cgid, self.stamp, self.hist, rec)
+                                            law.kn, law.cn, law.zeta, law.kt, law.mu, law.pressure, dt,
+                                            self.step_count, -1 - k, self.cgid, self.stamp, self.hist, rec)
         else:
             s_pts = world_polyhedra(st["local"][None], st["counts"][None], st["x"][None], st["q"][None])[0]
             nrec, nplastic = structure_contacts(lo, hi, self.x, self.v, omega, self.mass, self.bound, pts, counts,
                                                 s_pts, st["counts"], st["x"], st["bound"], st["v"], st["w"], law.kn,
-                                                law.cn, law.kt, st["mu"], law.pressure, dt, self.step_count, -1 - k,
-                                                self.cgid, self.stamp, self.hist, rec)
+                                                law.cn, law.zeta, law.kt, st["mu"], law.pressure, dt,
+                                                self.step_count, -1 - k, self.cgid, self.stamp, self.hist, rec)
         _refuse_overflow(nrec, rec, "floe-structure")
         return rec, nrec, nplastic
 
@@ -297,7 +310,7 @@ def contact_step_limit(law: FloeLaw, m_eff: float) -> float:
     """The stable step [s] of one contact: the spring-dashpot of k_n and c_n on m_eff [kg] under
     velocity Verlet, 2 / omega (sqrt(1 + zeta^2) - zeta)."""
     omega = math.sqrt(law.kn / m_eff)
-    zeta = law.cn / (2.0 * math.sqrt(m_eff * law.kn))
+    zeta = law.damping(m_eff) / (2.0 * math.sqrt(m_eff * law.kn))
     return 2.0 / omega * (math.sqrt(1.0 + zeta * zeta) - zeta)
 
 

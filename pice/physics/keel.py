@@ -51,9 +51,7 @@ class Keel:
 
 
 def keel_law(keel) -> FloeLaw:
-    c = keel.contact
-    return FloeLaw(kn=c.normal_stiffness, cn=c.damping, kt=c.tangential_stiffness, mu=c.friction,
-                   pressure=c.compressive_strength)
+    return FloeLaw.from_spec(keel.contact)
 
 
 def keel_water(job) -> FloeWater:
