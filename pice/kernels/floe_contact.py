@@ -267,24 +267,31 @@ def _on_structure(i, c, n0, n1, n2, area, depth, x, v, omega, mass, s_centre, s_
 
 
 @njit(**JIT)
-def plane_contacts(lo, hi, x, v, omega, mass, pts, counts, normal, offset, kn, cn, zr, kt, mu, pressure, dt, step,
-                   slot_gid, cgid, stamp, hist, records):
+def plane_contacts(lo, hi, x, v, omega, mass, bound, pts, counts, normal, offset, kn, cn, zr, kt, mu, pressure, dt,
+                   step, slot_gid, cgid, stamp, hist, records):
     """The contact of every floe in [lo, hi) with a fixed wall filling the half-space normal . x >= offset
     (normal (3,) a unit vector into the wall): the floe's part inside the wall is the overlap
-    (kernels/polyhedron_contact.part_inside); its area on the wall's plane is A_c, its volume over A_c the depth. Structure records as
-    ``structure_contacts`` (the load's moment about the origin). Returns (records needed, plastic)."""
+    (kernels/polyhedron_contact.part_inside); its area on the wall's plane is A_c, its volume over A_c
+    the depth. A floe whose bounding sphere (radius ``bound`` [m] about x) stays out of the wall is
+    skipped. Structure records as ``structure_contacts`` (the load's moment about the origin).
+    Returns (records needed, plastic)."""
     nrec = 0
     nplastic = 0
     into = -normal
     zero = np.zeros(3)
     buf = np.empty((2, pts.shape[2] + 2, 3))
     for i in range(lo, hi):
+        if normal[0] * x[i, 0] + normal[1] * x[i, 1] + normal[2] * x[i, 2] + bound[i] <= offset:
+            continue
         beyond = False
         for f in range(counts.shape[1]):
             for k in range(counts[i, f]):
                 p = pts[i, f, k]
                 if normal[0] * p[0] + normal[1] * p[1] + normal[2] * p[2] > offset:
                     beyond = True
+                    break
+            if beyond:
+                break
         if not beyond:
             continue
         vol, c, area, _, _, _ = part_inside(pts[i], counts[i], into[0], into[1], into[2], -offset, buf)

@@ -259,8 +259,8 @@ class Floes:
         rec = np.empty((max(hi - lo, 1), STRUCTURE_RECORD))
         if st.get("plane") is not None:
             normal, offset = st["plane"]
-            nrec, nplastic = plane_contacts(lo, hi, self.x, self.v, omega, self.mass, pts, counts, normal, offset,
-                                            law.kn, law.cn, law.zeta, law.kt, law.mu, law.pressure, dt,
+            nrec, nplastic = plane_contacts(lo, hi, self.x, self.v, omega, self.mass, self.bound, pts, counts, normal,
+                                            offset, law.kn, law.cn, law.zeta, law.kt, law.mu, law.pressure, dt,
                                             self.step_count, -1 - k, self.cgid, self.stamp, self.hist, rec)
         else:
             s_pts = world_polyhedra(st["local"][None], st["counts"][None], st["x"][None], st["q"][None])[0]
