@@ -1,29 +1,31 @@
 """Contact between rigid convex floes (issue 14: seed 003's viscoelastic-plastic law, Eqs. 1-4, on the
 overlap of two polyhedra; numba, arrays in and out, no MPI).
 
-For each pair (a, b), a the lower gid, whose bounding spheres meet, the overlap of their world
-polyhedra (kernels/polyhedron_contact.contact_geometry_planes, with the face planes computed once a step) gives the normal n (from a towards b), the contact
-area A_c and the depth delta = V / A_c, at the overlap's centroid. The law is the one of every
-contact in pice (kernels/contact_law.py): F_n = k_n (delta - delta_p) - c_n u_n, 0 <= F_n <= sigma_c A_c
-(the excess becomes plastic penetration delta_p), and a tangential spring capped at mu F_n. The
-dashpot is given as a coefficient c_n [N s/m] (seed 003, Table 3), passed to the law as the damping
-ratio c_n / (2 sqrt(m_eff k_n)) of the pair's m_eff = m_a m_b / (m_a + m_b), or as that ratio itself,
-zr >= 0, the same for every pair (the keel's rubble; a negative zr takes c_n). b receives F_n n + h
-at the overlap's centroid, a the opposite: linear momentum is conserved exactly, and angular
+For each pair (a, b), a the lower gid, whose bounding spheres and bounding boxes meet, the overlap of
+their world polyhedra (kernels/polyhedron_contact.contact_geometry_planes, with the face planes
+computed once a step) gives the normal n (from a towards b), the contact area A_c and the depth
+delta = V / A_c, at the overlap's centroid. The law is the one of every contact in pice
+(kernels/contact_law.py): F_n = k_n (delta - delta_p) - c_n u_n, 0 <= F_n <= sigma_c A_c (the excess
+becomes plastic penetration delta_p), and a tangential spring capped at mu F_n. The dashpot is given
+as a coefficient c_n [N s/m] (seed 003, Table 3), passed to the law as the damping ratio
+c_n / (2 sqrt(m_eff k_n)) of the pair's m_eff = m_a m_b / (m_a + m_b), or as that ratio itself, zr >= 0,
+the same for every pair (the keel's rubble; a negative zr takes c_n). b receives F_n n + h at the
+overlap's centroid, a the opposite: linear momentum is conserved exactly, and angular
 momentum too (both act at one point).
 
 History per pair, kept at the lower-gid floe (the slots of kernels/contacts._find_slot): the
 tangential force (3) and delta_p.
 
-The kernels compute the contacts of the floes in an index range [lo, hi) (one rank's floes,
-physics/floe_system.py) and write each contact as a record, not into force arrays:
+The kernels compute the contacts of the floes i = lo, lo + stride, ... below hi (one rank's floes,
+dealt round the ranks: physics/floe_system.py) and write each contact as a record, not into force
+arrays, in the order of i (a pair's i is the lower of its two indices):
 
     pair record       (a, b, f (3), torque on a (3), torque on b (3))          PAIR_RECORD = 11 doubles
     structure record  (floe, f on it (3), its torque (3), the structure's load (6))  STRUCTURE_RECORD = 13
 
 ``apply_pair_records`` and ``apply_structure_records`` add them to the floes in record order. Every
-rank gathers the records of all ranks in rank order, which is the order one rank computes them in:
-the floes' forces are then the same bits on any number of ranks.
+rank gathers the records of all ranks and merges them in the order of i (a stable sort), which is the
+order one rank computes them in: the floes' forces are then the same bits on any number of ranks.
 """
 
 import math
@@ -42,9 +44,9 @@ STRUCTURE_RECORD = 13
 
 
 @njit(**JIT)
-def floe_contacts(n, lo, hi, gid, x, v, omega, mass, bound, pts, counts, kn, cn, zr, kt, mu, pressure, dt, step,
+def floe_contacts(n, lo, hi, stride, gid, x, v, omega, mass, bound, pts, counts, kn, cn, zr, kt, mu, pressure, dt, step,
                   cgid, stamp, hist, records):
-    """The contacts of every overlapping pair (i, j), i in [lo, hi) and j > i, of the n floes, as pair
+    """The contacts of every overlapping pair (i, j), i in range(lo, hi, stride) and j > i, of the n floes, as pair
     records (module docstring) in ``records`` (m, PAIR_RECORD); the candidates come from a cell list of
     their centres (cells of the largest bounding diameter). pts, counts: (n, MAX_FACES,
     MAX_FACE_VERTS, 3), (n, MAX_FACES) world polyhedra; bound: (n,) bounding radius about x [m].
@@ -59,7 +61,7 @@ def floe_contacts(n, lo, hi, gid, x, v, omega, mass, bound, pts, counts, kn, cn,
     size = 2.0 * bound[:n].max() * 1.0001
     origin, dims, start, order, size = build_cell_list(x, n, size)
     near = np.empty(n, dtype=np.int64)
-    for i in range(lo, hi):
+    for i in range(lo, hi, stride):
         for q in range(cell_neighbourhood(x[i], origin, dims, start, order, size, near)):
             j = near[q]
             if j <= i:
@@ -204,17 +206,17 @@ def apply_structure_records(records, nrec, force, torque, load):
 
 
 @njit(**JIT)
-def structure_contacts(lo, hi, x, v, omega, mass, bound, pts, counts, s_pts, s_counts, s_centre, s_bound, s_v, s_w,
-                       kn, cn, zr, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist, records):
-    """The contact of every floe in [lo, hi) with a convex structure (s_pts, s_counts: its faces in
-    space; s_centre [m]: its reference point, the centre of its bounding sphere of radius s_bound and
+def structure_contacts(lo, hi, stride, x, v, omega, mass, bound, pts, counts, s_pts, s_counts, s_centre, s_bound,
+                       s_v, s_w, kn, cn, zr, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist, records):
+    """The contact of every floe in range(lo, hi, stride) with a convex structure (s_pts, s_counts: its
+    faces in space; s_centre [m]: its reference point, the centre of its bounding sphere of radius s_bound and
     of its motion: velocity s_v [m/s] and angular velocity s_w [rad/s] there; zero for a fixed one):
     the law of ``floe_contacts`` with the floe's own mass as m_eff, as structure records in
     ``records`` (m, STRUCTURE_RECORD). The history is kept in the floe's slot keyed by ``slot_gid`` (a
     negative key, distinct from every floe's gid). Returns (records needed, contacts in plastic flow)."""
     nrec = 0
     nplastic = 0
-    for i in range(lo, hi):
+    for i in range(lo, hi, stride):
         d0, d1, d2 = x[i, 0] - s_centre[0], x[i, 1] - s_centre[1], x[i, 2] - s_centre[2]
         reach = bound[i] + s_bound
         if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach:
@@ -267,10 +269,10 @@ def _on_structure(i, c, n0, n1, n2, area, depth, x, v, omega, mass, s_centre, s_
 
 
 @njit(**JIT)
-def plane_contacts(lo, hi, x, v, omega, mass, bound, pts, counts, normal, offset, kn, cn, zr, kt, mu, pressure, dt,
-                   step, slot_gid, cgid, stamp, hist, records):
-    """The contact of every floe in [lo, hi) with a fixed wall filling the half-space normal . x >= offset
-    (normal (3,) a unit vector into the wall): the floe's part inside the wall is the overlap
+def plane_contacts(lo, hi, stride, x, v, omega, mass, bound, pts, counts, normal, offset, kn, cn, zr, kt, mu, pressure,
+                   dt, step, slot_gid, cgid, stamp, hist, records):
+    """The contact of every floe in range(lo, hi, stride) with a fixed wall filling the half-space
+    normal . x >= offset (normal (3,) a unit vector into the wall): the floe's part inside the wall is the overlap
     (kernels/polyhedron_contact.part_inside); its area on the wall's plane is A_c, its volume over A_c
     the depth. A floe whose bounding sphere (radius ``bound`` [m] about x) stays out of the wall is
     skipped. Structure records as ``structure_contacts`` (the load's moment about the origin).
@@ -280,7 +282,7 @@ def plane_contacts(lo, hi, x, v, omega, mass, bound, pts, counts, normal, offset
     into = -normal
     zero = np.zeros(3)
     buf = np.empty((2, pts.shape[2] + 2, 3))
-    for i in range(lo, hi):
+    for i in range(lo, hi, stride):
         if normal[0] * x[i, 0] + normal[1] * x[i, 1] + normal[2] * x[i, 2] + bound[i] <= offset:
             continue
         beyond = False

@@ -38,20 +38,20 @@ from .waves import sea_point
 
 
 @njit(**JIT)
-def floe_sea(lo, hi, x, amp, omega, k, direction, phase, depth, g, rho_w, t, out):
-    """The undisturbed sea at the centres of mass x of floes lo..hi-1 at time t [s] into out (n, 6): the
+def floe_sea(lo, hi, stride, x, amp, omega, k, direction, phase, depth, g, rho_w, t, out):
+    """The undisturbed sea at the centres of mass x of floes lo, lo + stride, ... below hi at time t [s] into out (n, 6): the
     elevation eta [m], the particle velocity u_x, u_y [m/s] and the acceleration a_x, a_y, a_z [m/s^2]
     (one sum over the components per floe: kernels/waves.sea_point)."""
-    for i in range(lo, hi):
+    for i in range(lo, hi, stride):
         eta, u0, u1, _, a0, a1, a2, _ = sea_point(amp, omega, k, direction, phase, depth, g, rho_w,
                                                   x[i, 0], x[i, 1], x[i, 2], t)
         out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4], out[i, 5] = eta, u0, u1, a0, a1, a2
 
 
 @njit(**JIT)
-def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level, rho_w, g, current, skin, form,
+def floe_water(lo, hi, stride, x, v, omega, rot, mass, inertia, area, pts, counts, level, rho_w, g, current, skin, form,
                damping_ratio, wave, added, force, torque):
-    """Add the water's forces [N] and torques about each centre [N m] to the floes lo..hi-1; returns the
+    """Add the water's forces [N] and torques about each centre [N m] to the floes lo, lo + stride, ... below hi; returns the
     total submerged volume [m^3]. omega (n, 3) [rad/s] and the torques in space; rot (n, 3, 3) each
     floe's attitude (body to space, its principal axes); pts, counts: world polyhedra; area:
     water-plane areas [m^2]; inertia (n, 3) principal moments [kg m^2]; current (2,) [m/s]; skin
@@ -63,7 +63,7 @@ def floe_water(lo, hi, x, v, omega, rot, mass, inertia, area, pts, counts, level
     """
     total = 0.0
     buf = np.empty((2, pts.shape[2] + 2, 3))
-    for i in range(lo, hi):
+    for i in range(lo, hi, stride):
         # with waves the floe floats on the surface where it is: its buoyancy is cut at level + eta there
         # (module docstring)
         eta = uw0 = uw1 = aw0 = aw1 = aw2 = 0.0

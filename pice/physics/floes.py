@@ -208,19 +208,21 @@ class Floes:
         apply_pair_records(rec, nrec, self.force, self.torque)
         self.stats = (nrec, nplastic, worst)
 
-    def water_loads(self, lo, hi, pts, counts, omega, dt) -> None:
-        """The water's loads on floes lo..hi-1 added to force and torque (nothing without water)."""
+    def water_loads(self, lo, hi, pts, counts, omega, dt, stride=1) -> None:
+        """The water's loads on floes range(lo, hi, stride) added to force and torque (nothing without
+        water)."""
         w = self.water
         if w is None:
             return
         rot = floe_rotations(self.q)
-        wave = self.sea_at_floes(lo, hi, dt) if w.sea is not None else np.zeros((0, 6))
-        floe_water(lo, hi, self.x, self.v, omega, rot, self.mass, self.inertia_rigid, self.area, pts, counts, w.level,
-                   w.density, w.gravity, np.asarray(w.current, float), w.skin, w.form, w.damping_ratio, wave,
+        wave = self.sea_at_floes(lo, hi, dt, stride) if w.sea is not None else np.zeros((0, 6))
+        floe_water(lo, hi, stride, self.x, self.v, omega, rot, self.mass, self.inertia_rigid, self.area, pts, counts,
+                   w.level, w.density, w.gravity, np.asarray(w.current, float), w.skin, w.form, w.damping_ratio, wave,
                    self.added, self.force, self.torque)
 
-    def sea_at_floes(self, lo, hi, dt) -> np.ndarray:
-        """(n, 6) the sea at the floes' centres of mass now (kernels/floe_hydro.floe_sea), rows lo..hi-1.
+    def sea_at_floes(self, lo, hi, dt, stride=1) -> np.ndarray:
+        """(n, 6) the sea at the floes' centres of mass now (kernels/floe_hydro.floe_sea), rows
+        range(lo, hi, stride).
 
         The sums over the sea's components are the cost of a floe in waves (200 components against a
         few dozen operations for the rest of its water), and the sea changes slowly against the step:
@@ -236,37 +238,38 @@ class Floes:
         if self.wave_ends is None or self.wave_ends[0] != k:
             ends = np.zeros((2, len(self.mass), 6))
             for e in range(2):
-                floe_sea(lo, hi, self.x, sea.amplitude, sea.omega, sea.k, sea.direction, sea.phase, sea.depth,
+                floe_sea(lo, hi, stride, self.x, sea.amplitude, sea.omega, sea.k, sea.direction, sea.phase, sea.depth,
                          w.gravity, w.density, (k + e) * every * dt, ends[e])
             self.wave_ends = (k, ends)
         a, b = self.wave_ends[1]
         return a + (into / every) * (b - a)
 
-    def pair_records(self, lo, hi, pts, counts, omega, dt):
+    def pair_records(self, lo, hi, pts, counts, omega, dt, stride=1):
         """(records, count, contacts in plastic flow, largest overlap [m^3]) of the floe-floe contacts of
-        floes lo..hi-1 (kernels/floe_contact.py)."""
+        floes range(lo, hi, stride) (kernels/floe_contact.py)."""
         law = self.law
-        rec = np.empty((RECORDS_PER_FLOE * max(hi - lo, 1), PAIR_RECORD))
-        nrec, nplastic, worst = floe_contacts(len(self.mass), lo, hi, self.gid, self.x, self.v, omega, self.mass,
-                                              self.bound, pts, counts, law.kn, law.cn, law.zeta, law.kt, law.mu,
-                                              law.pressure, dt, self.step_count, self.cgid, self.stamp, self.hist, rec)
+        rec = np.empty((RECORDS_PER_FLOE * max(len(range(lo, hi, stride)), 1), PAIR_RECORD))
+        nrec, nplastic, worst = floe_contacts(len(self.mass), lo, hi, stride, self.gid, self.x, self.v, omega,
+                                              self.mass, self.bound, pts, counts, law.kn, law.cn, law.zeta, law.kt,
+                                              law.mu, law.pressure, dt, self.step_count, self.cgid, self.stamp,
+                                              self.hist, rec)
         _refuse_overflow(nrec, rec, "floe-floe")
         return rec, nrec, nplastic, worst
 
-    def structure_records(self, k, lo, hi, pts, counts, omega, dt):
-        """(records, count, contacts in plastic flow) of floes lo..hi-1 against structure k."""
+    def structure_records(self, k, lo, hi, pts, counts, omega, dt, stride=1):
+        """(records, count, contacts in plastic flow) of floes range(lo, hi, stride) against structure k."""
         st, law = self.structures[k], self.law
-        rec = np.empty((max(hi - lo, 1), STRUCTURE_RECORD))
+        rec = np.empty((max(len(range(lo, hi, stride)), 1), STRUCTURE_RECORD))
         if st.get("plane") is not None:
             normal, offset = st["plane"]
-            nrec, nplastic = plane_contacts(lo, hi, self.x, self.v, omega, self.mass, self.bound, pts, counts, normal,
-                                            offset, law.kn, law.cn, law.zeta, law.kt, law.mu, law.pressure, dt,
+            nrec, nplastic = plane_contacts(lo, hi, stride, self.x, self.v, omega, self.mass, self.bound, pts, counts,
+                                            normal, offset, law.kn, law.cn, law.zeta, law.kt, law.mu, law.pressure, dt,
                                             self.step_count, -1 - k, self.cgid, self.stamp, self.hist, rec)
         else:
             s_pts = world_polyhedra(st["local"][None], st["counts"][None], st["x"][None], st["q"][None])[0]
-            nrec, nplastic = structure_contacts(lo, hi, self.x, self.v, omega, self.mass, self.bound, pts, counts,
-                                                s_pts, st["counts"], st["x"], st["bound"], st["v"], st["w"], law.kn,
-                                                law.cn, law.zeta, law.kt, st["mu"], law.pressure, dt,
+            nrec, nplastic = structure_contacts(lo, hi, stride, self.x, self.v, omega, self.mass, self.bound, pts,
+                                                counts, s_pts, st["counts"], st["x"], st["bound"], st["v"], st["w"],
+                                                law.kn, law.cn, law.zeta, law.kt, st["mu"], law.pressure, dt,
                                                 self.step_count, -1 - k, self.cgid, self.stamp, self.hist, rec)
         _refuse_overflow(nrec, rec, "floe-structure")
         return rec, nrec, nplastic

@@ -1,8 +1,8 @@
 """Broken ice on 1 and 2 ranks (issue 14: "floes are distributed over MPI ranks like the level ice,
 with the same rank-invariance contract").
 
-Every rank holds every floe; each computes the contacts and water loads of its block of floes as
-records, gathered in rank order (physics/floe_system.py). The forces are then summed in the same
+Every rank holds every floe; each computes the contacts and water loads of its floes (dealt round
+the ranks) as records, gathered and merged by floe (physics/floe_system.py). The forces are then summed in the same
 order on any rank count, so the contract here is stricter than the level ice's round-off bound:
 the series (floe contacts, their kinetic energy, the ice load on the structure, the walls' load)
 agree bit for bit. A restart from a 1-rank checkpoint continued on 2 ranks joins the 1-rank run
