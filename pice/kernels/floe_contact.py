@@ -37,7 +37,7 @@ from . import JIT
 from .contact_law import plastic_normal_force, tangential_force
 from .contacts import _find_slot, build_cell_list, cell_neighbourhood
 from .polyhedra import face_planes, separated_by_planes
-from .polyhedron_contact import contact_geometry, contact_geometry_planes, part_inside
+from .polyhedron_contact import contact_geometry_planes, part_inside
 
 PAIR_RECORD = 11
 STRUCTURE_RECORD = 13
@@ -97,6 +97,20 @@ def _boxes_meet(box, i, j):
     """True when the bounding boxes of i and j overlap (``_boxes``)."""
     return (box[i, 0] <= box[j, 3] and box[j, 0] <= box[i, 3] and box[i, 1] <= box[j, 4] and box[j, 1] <= box[i, 4]
             and box[i, 2] <= box[j, 5] and box[j, 2] <= box[i, 5])
+
+
+@njit(**JIT)
+def _box_meets(box, pts, counts):
+    """True when the polyhedron (pts, counts)'s bounding box overlaps ``box`` (6,) (``_boxes``)."""
+    lo0 = lo1 = lo2 = math.inf
+    hi0 = hi1 = hi2 = -math.inf
+    for f in range(counts.shape[0]):
+        for k in range(counts[f]):
+            p0, p1, p2 = pts[f, k, 0], pts[f, k, 1], pts[f, k, 2]
+            lo0, lo1, lo2 = min(lo0, p0), min(lo1, p1), min(lo2, p2)
+            hi0, hi1, hi2 = max(hi0, p0), max(hi1, p1), max(hi2, p2)
+    return (lo0 <= box[3] and box[0] <= hi0 and lo1 <= box[4] and box[1] <= hi1 and lo2 <= box[5]
+            and box[2] <= hi2)
 
 
 @njit(**JIT)
@@ -213,15 +227,25 @@ def structure_contacts(lo, hi, stride, x, v, omega, mass, bound, pts, counts, s_
     of its motion: velocity s_v [m/s] and angular velocity s_w [rad/s] there; zero for a fixed one):
     the law of ``floe_contacts`` with the floe's own mass as m_eff, as structure records in
     ``records`` (m, STRUCTURE_RECORD). The history is kept in the floe's slot keyed by ``slot_gid`` (a
-    negative key, distinct from every floe's gid). Returns (records needed, contacts in plastic flow)."""
+    negative key, distinct from every floe's gid). A floe is tested against the structure's bounding
+    sphere, its bounding box and its face planes before their overlap is clipped (a hull's pieces have
+    their sphere about the body's origin: a ship's bow piece reaches every block of a keel).
+    Returns (records needed, contacts in plastic flow)."""
     nrec = 0
     nplastic = 0
+    s_box = _boxes(1, s_pts.reshape((1,) + s_pts.shape), s_counts.reshape((1,) + s_counts.shape))
+    s_planes = face_planes(s_pts.reshape((1,) + s_pts.shape), s_counts.reshape((1,) + s_counts.shape))[0]
     for i in range(lo, hi, stride):
         d0, d1, d2 = x[i, 0] - s_centre[0], x[i, 1] - s_centre[1], x[i, 2] - s_centre[2]
         reach = bound[i] + s_bound
         if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach:
             continue
-        vol, c, nrm, area, depth = contact_geometry(pts[i], counts[i], s_pts, s_counts)
+        if not _box_meets(s_box[0], pts[i], counts[i]):
+            continue
+        if separated_by_planes(s_planes, s_counts, pts[i], counts[i]):
+            continue
+        planes = face_planes(pts[i:i + 1], counts[i:i + 1])[0]
+        vol, c, nrm, area, depth = contact_geometry_planes(pts[i], counts[i], planes, s_pts, s_counts, s_planes)
         if vol <= 0.0:
             continue
         # the structure's normal points from the floe towards it; the law's normal from it to the floe
