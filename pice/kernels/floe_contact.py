@@ -37,7 +37,7 @@ from . import JIT
 from .contact_law import plastic_normal_force, tangential_force
 from .contacts import _find_slot, build_cell_list, cell_neighbourhood
 from .polyhedra import face_planes, separated_by_planes
-from .polyhedron_contact import contact_geometry_planes, part_inside
+from .polyhedron_contact import contact_buffer, contact_geometry_planes, contact_scalars, part_inside
 
 PAIR_RECORD = 11
 STRUCTURE_RECORD = 13
@@ -58,6 +58,7 @@ def floe_contacts(n, lo, hi, stride, gid, x, v, omega, mass, bound, pts, counts,
         return nrec, nplastic, worst
     planes = face_planes(pts, counts)
     box = _boxes(n, pts, counts)
+    buf = contact_buffer(pts[0], planes[0], pts[0], planes[0])  # the overlaps' work array, one for all pairs
     size = 2.0 * bound[:n].max() * 1.0001
     origin, dims, start, order, size = build_cell_list(x, n, size)
     near = np.empty(n, dtype=np.int64)
@@ -70,7 +71,7 @@ def floe_contacts(n, lo, hi, stride, gid, x, v, omega, mass, bound, pts, counts,
             d0, d1, d2 = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2]
             reach = bound[i] + bound[j]
             if d0 * d0 + d1 * d1 + d2 * d2 < reach * reach and _boxes_meet(box, i, j):
-                nrec, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn,
+                nrec, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, buf, kn, cn,
                                               zr, kt, mu, pressure, dt, step, cgid, stamp, hist, records,
                                               nrec, nplastic, worst)
     return nrec, nplastic, worst
@@ -114,33 +115,35 @@ def _box_meets(box, pts, counts):
 
 
 @njit(**JIT)
-def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, kn, cn, zr, kt, mu, pressure, dt, step, cgid,
+def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, buf, kn, cn, zr, kt, mu, pressure, dt, step, cgid,
           stamp, hist, records, nrec, nplastic, worst):
     """The contact of floes i and j, if they overlap (``floe_contacts``); returns the updated counts."""
     d0, d1, d2 = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2]  # scalars: no temporaries
     reach = bound[i] + bound[j]
     if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach:
         return nrec, nplastic, worst
-    if (_apart_along(d0, d1, d2, pts[i], counts[i], pts[j], counts[j])
-            or separated_by_planes(planes[i], counts[i], pts[j], counts[j])
-            or separated_by_planes(planes[j], counts[j], pts[i], counts[i])):
-        return nrec, nplastic, worst
     a, b = (i, j) if gid[i] < gid[j] else (j, i)
-    vol, c, nrm, area, depth = contact_geometry_planes(pts[a], counts[a], planes[a], pts[b], counts[b], planes[b])
+    s, found = _find_slot(cgid, stamp, a, gid[b], step)
+    # a pair in contact at the last step mostly still is: straight to its overlap; the others first try
+    # the separating planes (the overlap of separated bodies is empty: the same result, sooner)
+    if not found and (_apart_along(d0, d1, d2, pts[i], counts[i], pts[j], counts[j])
+                      or separated_by_planes(planes[i], counts[i], pts[j], counts[j])
+                      or separated_by_planes(planes[j], counts[j], pts[i], counts[i])):
+        return nrec, nplastic, worst
+    vol, c0, c1, c2, n0, n1, n2, area, depth = contact_scalars(pts[a], counts[a], planes[a], pts[b], counts[b],
+                                                               planes[b], buf)
     if vol <= 0.0:
         return nrec, nplastic, worst
     worst = max(worst, vol)
-    n0, n1, n2 = nrm[0], nrm[1], nrm[2]
     # lever arms from the centres to the contact point, and the velocity of b's material there
     # relative to a's (in scalars: no temporaries)
-    ra0, ra1, ra2 = c[0] - x[a, 0], c[1] - x[a, 1], c[2] - x[a, 2]
-    rb0, rb1, rb2 = c[0] - x[b, 0], c[1] - x[b, 1], c[2] - x[b, 2]
+    ra0, ra1, ra2 = c0 - x[a, 0], c1 - x[a, 1], c2 - x[a, 2]
+    rb0, rb1, rb2 = c0 - x[b, 0], c1 - x[b, 1], c2 - x[b, 2]
     wa, wb = omega[a], omega[b]
     u0 = (v[b, 0] + (wb[1] * rb2 - wb[2] * rb1)) - (v[a, 0] + (wa[1] * ra2 - wa[2] * ra1))
     u1 = (v[b, 1] + (wb[2] * rb0 - wb[0] * rb2)) - (v[a, 1] + (wa[2] * ra0 - wa[0] * ra2))
     u2 = (v[b, 2] + (wb[0] * rb1 - wb[1] * rb0)) - (v[a, 2] + (wa[0] * ra1 - wa[1] * ra0))
     un = u0 * n0 + u1 * n1 + u2 * n2
-    s, found = _find_slot(cgid, stamp, a, gid[b], step)
     h0 = hist[a, s, 0] if found else 0.0
     h1 = hist[a, s, 1] if found else 0.0
     h2 = hist[a, s, 2] if found else 0.0

@@ -78,8 +78,30 @@ def contact_geometry_planes(a_pts, a_counts, a_planes, b_pts, b_counts, b_planes
     A face of B in the plane of a face of A, facing the same way, is A's (as ``overlap`` keeps it). The
     volume and centroid are sums of tetrahedra over those faces (``volume_centroid``), S_A the sum of
     the vector areas of A's parts."""
+    vol, c0, c1, c2, n0, n1, n2, area, depth = contact_scalars(a_pts, a_counts, a_planes, b_pts, b_counts, b_planes,
+                                                                contact_buffer(a_pts, a_planes, b_pts, b_planes))
+    centre = np.full(3, np.nan)
+    normal = np.zeros(3)
+    if vol <= 0.0:
+        return 0.0, centre, normal, 0.0, 0.0
+    centre[0], centre[1], centre[2] = c0, c1, c2
+    normal[0], normal[1], normal[2] = n0, n1, n2
+    return vol, centre, normal, area, depth
+
+
+@njit(**JIT)
+def contact_buffer(a_pts, a_planes, b_pts, b_planes):
+    """The work array ``contact_scalars`` needs for polyhedra of these shapes (one per kernel call)."""
     width = max(a_pts.shape[1], b_pts.shape[1]) + a_planes.shape[0] + b_planes.shape[0] + 1
-    buf = np.empty((2, width, 3))
+    return np.empty((2, width, 3))
+
+
+@njit(**JIT)
+def contact_scalars(a_pts, a_counts, a_planes, b_pts, b_counts, b_planes, buf):
+    """``contact_geometry_planes`` in scalars, with its work array ``buf`` (``contact_buffer``) given,
+    so that a kernel's loop over pairs allocates nothing: (volume [m^3], centroid (3 scalars) [m],
+    unit normal from A towards B (3 scalars), contact area [m^2], depth [m]); volume 0 when apart
+    (the rest then meaningless)."""
     vol = c0 = c1 = c2 = s0 = s1 = s2 = 0.0
     r0 = r1 = r2 = 0.0
     have_ref = False
@@ -102,17 +124,14 @@ def contact_geometry_planes(a_pts, a_counts, a_planes, b_pts, b_counts, b_planes
             vol, c0, c1, c2 = vol + v6, c0 + m0, c1 + m1, c2 + m2
             if side == 0:  # S_A: the vector areas of A's parts
                 s0, s1, s2 = s0 + a0, s1 + a1, s2 + a2
-    centre = np.full(3, np.nan)
-    normal = np.zeros(3)
     if vol <= 0.0:
-        return 0.0, centre, normal, 0.0, 0.0
-    centre[0], centre[1], centre[2] = c0 / (4.0 * vol) + r0, c1 / (4.0 * vol) + r1, c2 / (4.0 * vol) + r2
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    k0, k1, k2 = c0 / (4.0 * vol) + r0, c1 / (4.0 * vol) + r1, c2 / (4.0 * vol) + r2
     vol /= 6.0
     area = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
     if area <= 0.0:
-        return vol, centre, normal, 0.0, 0.0
-    normal[0], normal[1], normal[2] = s0 / area, s1 / area, s2 / area
-    return vol, centre, normal, area, vol / area
+        return vol, k0, k1, k2, 0.0, 0.0, 0.0, 0.0, 0.0
+    return vol, k0, k1, k2, s0 / area, s1 / area, s2 / area, area, vol / area
 
 
 @njit(**JIT)
