@@ -44,12 +44,68 @@ STRUCTURE_RECORD = 13
 
 
 @njit(**JIT)
-def floe_contacts(n, lo, hi, stride, gid, x, v, omega, mass, bound, pts, counts, kn, cn, zr, kt, mu, pressure, dt, step,
-                  cgid, stamp, hist, records):
-    """The contacts of every overlapping pair (i, j), i in range(lo, hi, stride) and j > i, of the n floes, as pair
-    records (module docstring) in ``records`` (m, PAIR_RECORD); the candidates come from a cell list of
-    their centres (cells of the largest bounding diameter). pts, counts: (n, MAX_FACES,
-    MAX_FACE_VERTS, 3), (n, MAX_FACES) world polyhedra; bound: (n,) bounding radius about x [m].
+def floe_boxes(n, pts, counts):
+    """(n, 6) the floes' axis-aligned bounding boxes (x, y, z lows, then highs) [m] at their poses."""
+    return _boxes(n, pts, counts)
+
+
+@njit(**JIT)
+def boxes_within(box, held):
+    """True when every box (n, 6) lies inside its ``held`` box (the inflated boxes of a pair list)."""
+    for i in range(box.shape[0]):
+        for e in range(3):
+            if box[i, e] < held[i, e] or box[i, 3 + e] > held[i, 3 + e]:
+                return False
+    return True
+
+
+@njit(**JIT)
+def build_floe_pairs(n, lo, hi, stride, x, bound, box, skin):
+    """The candidate pairs of the floes range(lo, hi, stride), a neighbour list with a skin (as
+    kernels/pair_list.py for the elements): (start (len(range(lo, hi, stride)) + 1,), partners,
+    held (n, 6)). held are the boxes grown by skin / 2 on every side; the k-th owned floe i's
+    partners[start[k]:start[k + 1]] are the j > i whose held box meets i's, in increasing j. While
+    every floe's box stays inside its held box (``boxes_within``), every pair whose boxes meet is
+    listed. The order of the pairs, (i, j) increasing, is a function of the state alone: a restart,
+    which builds a fresh list, adds the same forces in the same order."""
+    held = np.empty((n, 6))
+    for i in range(n):
+        for e in range(3):
+            held[i, e] = box[i, e] - 0.5 * skin
+            held[i, 3 + e] = box[i, 3 + e] + 0.5 * skin
+    # two held boxes meet only if the centres are within b_i + b_j + skin along every axis
+    origin, dims, cstart, order, size = build_cell_list(x, n, 2.0 * bound[:n].max() * 1.0001 + skin)
+    near = np.empty(n, dtype=np.int64)
+    owned = len(range(lo, hi, stride))
+    start = np.zeros(owned + 1, dtype=np.int64)
+    out = np.empty(16 * max(owned, 1), dtype=np.int64)
+    m = 0
+    k = 0
+    for i in range(lo, hi, stride):
+        first = m
+        for q in range(cell_neighbourhood(x[i], origin, dims, cstart, order, size, near)):
+            j = near[q]
+            if j > i and _boxes_meet(held, i, j):
+                if m == out.shape[0]:
+                    grown = np.empty(2 * m, dtype=np.int64)
+                    grown[:m] = out
+                    out = grown
+                out[m] = j
+                m += 1
+        out[first:m].sort()
+        k += 1
+        start[k] = m
+    return start, out[:m].copy(), held
+
+
+@njit(**JIT)
+def floe_contacts(n, lo, hi, stride, start, partners, box, gid, x, v, omega, mass, bound, pts, counts, kn, cn, zr,
+                  kt, mu, pressure, dt, step, cgid, stamp, hist, records):
+    """The contacts of every overlapping pair (i, j), i in range(lo, hi, stride) and j > i, of the n
+    floes, as pair records (module docstring) in ``records`` (m, PAIR_RECORD), in the order of i then
+    j; the candidates are the pair list (start, partners) of ``build_floe_pairs`` for these floes,
+    valid for the boxes ``box`` (``floe_boxes``). pts, counts: (n, MAX_FACES, MAX_FACE_VERTS, 3),
+    (n, MAX_FACES) world polyhedra; bound: (n,) bounding radius about x [m].
     Returns (records needed (written up to m), contacts in plastic flow, largest overlap volume [m^3])."""
     nrec = 0
     nplastic = 0
@@ -57,23 +113,19 @@ def floe_contacts(n, lo, hi, stride, gid, x, v, omega, mass, bound, pts, counts,
     if n == 0 or hi <= lo:
         return nrec, nplastic, worst
     planes = face_planes(pts, counts)
-    box = _boxes(n, pts, counts)
     buf = contact_buffer(pts[0], planes[0], pts[0], planes[0])  # the overlaps' work array, one for all pairs
-    size = 2.0 * bound[:n].max() * 1.0001
-    origin, dims, start, order, size = build_cell_list(x, n, size)
-    near = np.empty(n, dtype=np.int64)
+    k = 0
     for i in range(lo, hi, stride):
-        for q in range(cell_neighbourhood(x[i], origin, dims, start, order, size, near)):
-            j = near[q]
-            if j <= i:
-                continue
-            # the bounding spheres first, here: a call of _pair (two dozen arguments) costs more than the test
+        for q in range(start[k], start[k + 1]):
+            j = partners[q]
+            # the bounding spheres and boxes first, here: a call of _pair (two dozen arguments) costs more
             d0, d1, d2 = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2]
             reach = bound[i] + bound[j]
             if d0 * d0 + d1 * d1 + d2 * d2 < reach * reach and _boxes_meet(box, i, j):
                 nrec, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, buf, kn, cn,
                                               zr, kt, mu, pressure, dt, step, cgid, stamp, hist, records,
                                               nrec, nplastic, worst)
+        k += 1
     return nrec, nplastic, worst
 
 

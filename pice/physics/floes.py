@@ -18,13 +18,15 @@ import numpy as np
 
 from ..errors import InstabilityError
 from ..kernels.floe_contact import (PAIR_RECORD, STRUCTURE_RECORD, apply_pair_records, apply_structure_records,
-                                    floe_contacts, plane_contacts, structure_contacts)
+                                    boxes_within, build_floe_pairs, floe_boxes, floe_contacts, plane_contacts,
+                                    structure_contacts)
 from ..kernels.floe_hydro import floe_sea, floe_water
 from ..kernels.floe_motion import floe_omegas, floe_rotations, turn_all, world_polyhedra
 from ..kernels.polyhedra import prism
 from ..scenes.floe_field import polygon_area, polygon_centroid
 from ..state import MAX_CONTACTS
 
+PAIR_SKIN = 0.05  # the pair list's skin, of the largest bounding radius (a 1.4 m block: 4 cm; a 40 m floe: 1 m)
 RECORDS_PER_FLOE = 24  # room for the floe-floe contacts of one floe at once (a convex floe in a field touches fewer)
 
 
@@ -150,6 +152,11 @@ class Floes:
         self.hist = np.zeros((n, MAX_CONTACTS, 4))
         self.step_count = 0
         self.time = 0.0  # [s]
+        # the floe-floe candidates (kernels/floe_contact.build_floe_pairs): ((lo, hi, stride), start,
+        # partners, held boxes), rebuilt when a floe's box leaves its held box; not state (a restart
+        # builds its own and adds the same forces in the same order)
+        self.near = None
+        self.pair_lists = 0  # lists built
         self.stats = (0, 0, 0.0)
         self.structures = []  # fixed convex structures: (pts, counts, centre, bound)
         self.structure_load = np.zeros((0, 6))
@@ -247,12 +254,18 @@ class Floes:
     def pair_records(self, lo, hi, pts, counts, omega, dt, stride=1):
         """(records, count, contacts in plastic flow, largest overlap [m^3]) of the floe-floe contacts of
         floes range(lo, hi, stride) (kernels/floe_contact.py)."""
-        law = self.law
+        law, n = self.law, len(self.mass)
         rec = np.empty((RECORDS_PER_FLOE * max(len(range(lo, hi, stride)), 1), PAIR_RECORD))
-        nrec, nplastic, worst = floe_contacts(len(self.mass), lo, hi, stride, self.gid, self.x, self.v, omega,
-                                              self.mass, self.bound, pts, counts, law.kn, law.cn, law.zeta, law.kt,
-                                              law.mu, law.pressure, dt, self.step_count, self.cgid, self.stamp,
-                                              self.hist, rec)
+        box = floe_boxes(n, pts, counts)
+        near = self.near
+        if near is None or near[0] != (lo, hi, stride) or not boxes_within(box, near[3]):
+            skin = PAIR_SKIN * float(self.bound.max()) if n else 0.0
+            near = self.near = ((lo, hi, stride),) + build_floe_pairs(n, lo, hi, stride, self.x, self.bound, box, skin)
+            self.pair_lists += 1
+        nrec, nplastic, worst = floe_contacts(n, lo, hi, stride, near[1], near[2], box, self.gid, self.x, self.v,
+                                              omega, self.mass, self.bound, pts, counts, law.kn, law.cn, law.zeta,
+                                              law.kt, law.mu, law.pressure, dt, self.step_count, self.cgid,
+                                              self.stamp, self.hist, rec)
         _refuse_overflow(nrec, rec, "floe-floe")
         return rec, nrec, nplastic, worst
 
