@@ -69,6 +69,10 @@ def build_floe_pairs(n, lo, hi, stride, x, bound, box, skin):
     listed. The order of the pairs, (i, j) increasing, is a function of the state alone: a restart,
     which builds a fresh list, adds the same forces in the same order."""
     held = np.empty((n, 6))
+    owned = len(range(lo, hi, stride))
+    start = np.zeros(owned + 1, dtype=np.int64)
+    if n == 0:
+        return start, np.zeros(0, dtype=np.int64), held
     for i in range(n):
         for e in range(3):
             held[i, e] = box[i, e] - 0.5 * skin
@@ -76,8 +80,6 @@ def build_floe_pairs(n, lo, hi, stride, x, bound, box, skin):
     # two held boxes meet only if the centres are within b_i + b_j + skin along every axis
     origin, dims, cstart, order, size = build_cell_list(x, n, 2.0 * bound[:n].max() * 1.0001 + skin)
     near = np.empty(n, dtype=np.int64)
-    owned = len(range(lo, hi, stride))
-    start = np.zeros(owned + 1, dtype=np.int64)
     out = np.empty(16 * max(owned, 1), dtype=np.int64)
     m = 0
     k = 0
