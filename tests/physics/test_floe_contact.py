@@ -318,17 +318,8 @@ def test_floe_and_a_free_cone_share_their_momentum():
     assert v_s[0] > 0.0 and floes.v[0, 0] < 0.4  # the cone was pushed, the floe slowed
 
 
-@pytest.mark.parametrize("ranks", [1, 3])
-def test_the_contact_search_finds_every_overlapping_pair(ranks):
-    """The broad phase of kernels/floe_contact.floe_contacts (cells, bounding spheres, bounding boxes,
-    separating planes) against brute force: 150 randomly turned blocks crowded into a 4 m cube, every
-    pair of which is clipped (kernels/polyhedron_contact.contact_geometry). The same pairs have
-    records, and their normal forces are k_n x depth (no motion, no history); with the floes dealt
-    round 3 "ranks" (range(r, n, 3), physics/floe_system.py) the union of the records is the same."""
-    from pice.kernels.polyhedron_contact import contact_geometry
-
-    rng = np.random.default_rng(7)
-    n = 150
+def _crowded_blocks(seed=7, n=150):
+    rng = np.random.default_rng(seed)
     sizes = rng.uniform(0.6, 1.4, n)
     centres = rng.uniform(0.0, 4.0, (n, 3))
     polygons = [_square(0.0, 0.0, 1.0) * [s, 0.615 * s] + c[:2] for s, c in zip(sizes, centres)]
@@ -337,19 +328,61 @@ def test_the_contact_search_finds_every_overlapping_pair(ranks):
     q = rng.normal(size=(n, 4))
     floes.q[:] = q / np.linalg.norm(q, axis=1)[:, None]
     floes.v[:] = 0.0
+    return floes, rng
+
+
+def _brute_force_pairs(floes):
+    """{(i, j): k_n depth} of every overlapping pair, each clipped (polyhedron_contact.contact_geometry)."""
+    from pice.kernels.polyhedron_contact import contact_geometry
+
     pts, counts = floes.world()
-    expected = {}
-    for i in range(n):
-        for j in range(i + 1, n):
+    out = {}
+    for i in range(len(floes.mass)):
+        for j in range(i + 1, len(floes.mass)):
             vol, _, _, _, depth = contact_geometry(pts[i], counts[i], pts[j], counts[j])
             if vol > 0.0:
-                expected[(i, j)] = law.kn * depth
-    assert len(expected) > 100  # crowded: many pairs overlap
+                out[(i, j)] = floes.law.kn * depth
+    return out
+
+
+def _found_pairs(floes, ranks=1):
+    pts, counts = floes.world()
     found = {}
     for r in range(ranks):
-        rec, nrec, _, _ = floes.pair_records(r, n, pts, counts, floes.omega, 1e-4, stride=ranks)
+        rec, nrec, _, _ = floes.pair_records(r, len(floes.mass), pts, counts, floes.omega, 1e-4, stride=ranks)
         for row in rec[:nrec]:
             found[(int(row[0]), int(row[1]))] = float(np.linalg.norm(row[2:5]))
+    return found
+
+
+def test_the_pair_list_is_kept_within_its_skin_and_rebuilt_beyond():
+    """The pair list (kernels/floe_contact.build_floe_pairs) is kept while every block's box stays
+    inside its box grown by half the skin (0.05 x the largest bounding radius: 2.1 cm here), and
+    still finds every overlapping pair then (brute force); a move beyond rebuilds it."""
+    floes, rng = _crowded_blocks()
+    assert _found_pairs(floes).keys() == _brute_force_pairs(floes).keys()
+    assert floes.pair_lists == 1
+    half_skin = 0.5 * 0.05 * floes.bound.max()
+    floes.x += rng.uniform(-0.9, 0.9, floes.x.shape) * half_skin  # boxes move by less than half the skin
+    expected = _brute_force_pairs(floes)
+    assert _found_pairs(floes).keys() == expected.keys()
+    assert floes.pair_lists == 1  # kept
+    floes.x[0] += 3.0 * half_skin
+    assert _found_pairs(floes).keys() == _brute_force_pairs(floes).keys()
+    assert floes.pair_lists == 2  # rebuilt
+
+
+@pytest.mark.parametrize("ranks", [1, 3])
+def test_the_contact_search_finds_every_overlapping_pair(ranks):
+    """The broad phase of kernels/floe_contact.floe_contacts (cells, bounding spheres, bounding boxes,
+    separating planes) against brute force: 150 randomly turned blocks crowded into a 4 m cube, every
+    pair of which is clipped (kernels/polyhedron_contact.contact_geometry). The same pairs have
+    records, and their normal forces are k_n x depth (no motion, no history); with the floes dealt
+    round 3 "ranks" (range(r, n, 3), physics/floe_system.py) the union of the records is the same."""
+    floes, _ = _crowded_blocks()
+    expected = _brute_force_pairs(floes)
+    assert len(expected) > 100  # crowded: many pairs overlap
+    found = _found_pairs(floes, ranks)
     assert found.keys() == expected.keys()
     for key, fn in expected.items():  # zero velocity: F_n = k_n delta, and no tangential force
         assert found[key] == pytest.approx(fn, rel=1e-9)
