@@ -374,7 +374,7 @@ def test_the_pair_list_is_kept_within_its_skin_and_rebuilt_beyond():
 
 @pytest.mark.parametrize("ranks", [1, 3])
 def test_the_contact_search_finds_every_overlapping_pair(ranks):
-    """The broad phase of kernels/floe_contact.floe_contacts (cells, bounding spheres, bounding boxes,
+    """The broad phase of kernels/floe_contact.floe_contacts (the pair list, bounding spheres and boxes,
     separating planes) against brute force: 150 randomly turned blocks crowded into a 4 m cube, every
     pair of which is clipped (kernels/polyhedron_contact.contact_geometry). The same pairs have
     records, and their normal forces are k_n x depth (no motion, no history); with the floes dealt
