@@ -39,7 +39,9 @@ def keel_path(job, base_dir=None) -> pathlib.Path:
 
 
 def _generation_keys(keel) -> dict:
-    return {k: v for k, v in keel.model_dump(mode="json").items() if k not in RUN_KEYS}
+    """The [keel] keys a generation depends on; an optional key left unset (None) is left out, so that
+    files written before it existed still match (keel.settle_friction)."""
+    return {k: v for k, v in keel.model_dump(mode="json").items() if k not in RUN_KEYS and v is not None}
 
 
 def write_keel(path, keel, result) -> pathlib.Path:

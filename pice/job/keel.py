@@ -82,6 +82,10 @@ class KeelSpec(Section):
     blocks: BlocksSpec = BlocksSpec()
     contact: KeelContactSpec = KeelContactSpec()
     settle_speed: quantity("m/s") = 2.0e-3
+    # the ice-ice and ice-cover friction while the blocks settle (default: keel.contact.friction, seed 002's
+    # procedure): with it the pile locks loose (porosity 0.56-0.62 measured), frictionless (0) it packs
+    # closer (0.33-0.39), but slides for longer; docs/ridge_keel.md "Porosity"
+    settle_friction: quantity("", gt=None, ge=0.0) | None = None
     settle_time: quantity("s") = 120.0
     step_fraction: quantity("", le=0.2) = 0.1  # the step: this fraction of the shortest contact, m_eff / c_n
     file: str = ""  # the settled keel (default: beside the run file, <run>.keel.h5)

@@ -9,6 +9,9 @@ the cover (z >= keel.cover is solid, with the ice-ice friction: it holds the pil
 ends of the keel's length (y = y0 and y0 + length), where seed 002's basin walls touch the pile; along
 x, walls at the keel's top corners while it settles (``keel_walls``), and the trim cuts the slopes.
 
+keel.settle_friction, when given, replaces the contact's friction while the blocks settle (the ship
+run has the contact's): docs/ridge_keel.md, "Porosity".
+
 Settled: the RMS speed of the blocks below keel.settle_speed, checked every SETTLE_CHECK s of
 simulated time; a generation that has not settled after keel.settle_time is refused with the speed it
 reached.
@@ -16,6 +19,7 @@ reached.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from dataclasses import dataclass
@@ -52,6 +56,13 @@ class Keel:
 
 def keel_law(keel) -> FloeLaw:
     return FloeLaw.from_spec(keel.contact)
+
+
+def settling_law(keel) -> FloeLaw:
+    """The contact law while the blocks settle: [keel.contact], with keel.settle_friction (between the
+    blocks and with the cover and walls) in place of its friction when given."""
+    law = keel_law(keel)
+    return law if keel.settle_friction is None else dataclasses.replace(law, mu=keel.settle_friction)
 
 
 def keel_water(job) -> FloeWater:
@@ -113,7 +124,7 @@ def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
     unsettled generation can be continued (io/keel_file.py's generation checkpoint)."""
     keel = job.keel
     rects, x, q = release_blocks(keel)
-    floes = blocks_as_floes(keel, rects, x, q, keel_law(keel), keel_water(job))
+    floes = blocks_as_floes(keel, rects, x, q, settling_law(keel), keel_water(job))
     keel_walls(floes, keel, generation=True)
     system = FloeSystem(floes, comm, [])
     dt = keel_step(keel, floes)

@@ -131,3 +131,20 @@ def test_the_keels_dashpot_is_a_ratio_and_sets_the_step():
     expected = 0.1 * m_eff / (2.0 * 0.3 * math.sqrt(m_eff * 1.0e7))
     assert keel_step(keel, floes) == pytest.approx(expected, rel=1e-12)
     assert expected == pytest.approx(2.92e-4, rel=0.02)
+
+
+def test_the_blocks_settle_with_their_own_friction():
+    """keel.settle_friction (docs/ridge_keel.md "Porosity"), when given, is the friction of the settling
+    (physics/keel.settling_law), keel.contact.friction the ship run's; by default the settling has the
+    contact's (seed 002's procedure). The settling friction is a generation key (a keel file settled
+    with another is refused: io/keel_file.RUN_KEYS)."""
+    from pice.io.keel_file import _generation_keys
+    from pice.physics.keel import settling_law
+
+    keel = _job(contact={"friction": 0.6}).keel
+    assert keel.settle_friction is None and settling_law(keel).mu == 0.6
+    keel = _job(contact={"friction": 0.6}, settle_friction=0.0).keel
+    assert settling_law(keel).mu == 0.0 and keel_law(keel).mu == 0.6
+    assert settling_law(keel).kn == keel_law(keel).kn and settling_law(keel).zeta == keel_law(keel).zeta
+    assert _generation_keys(keel)["settle_friction"] == 0.0
+    assert "settle_friction" not in _generation_keys(_job().keel)  # unset: files from before it still match
