@@ -44,12 +44,6 @@ STRUCTURE_RECORD = 13
 
 
 @njit(**JIT)
-def floe_boxes(n, pts, counts):
-    """(n, 6) the floes' axis-aligned bounding boxes (x, y, z lows, then highs) [m] at their poses."""
-    return _boxes(n, pts, counts)
-
-
-@njit(**JIT)
 def boxes_within(box, held):
     """True when every box (n, 6) lies inside its ``held`` box (the inflated boxes of a pair list)."""
     for i in range(box.shape[0]):
@@ -124,7 +118,7 @@ def floe_contacts(n, lo, hi, stride, start, partners, box, gid, x, v, omega, mas
             d0, d1, d2 = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2]
             reach = bound[i] + bound[j]
             if d0 * d0 + d1 * d1 + d2 * d2 < reach * reach and _boxes_meet(box, i, j):
-                nrec, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, buf, kn, cn,
+                nrec, nplastic, worst = _pair(i, j, gid, x, v, omega, mass, pts, counts, planes, buf, kn, cn,
                                               zr, kt, mu, pressure, dt, step, cgid, stamp, hist, records,
                                               nrec, nplastic, worst)
         k += 1
@@ -132,7 +126,7 @@ def floe_contacts(n, lo, hi, stride, start, partners, box, gid, x, v, omega, mas
 
 
 @njit(**JIT)
-def _boxes(n, pts, counts):
+def floe_boxes(n, pts, counts):
     """(n, 6) the axis-aligned bounding boxes (x, y, z lows, then highs) [m] of the first n polyhedra."""
     box = np.empty((n, 6))
     for i in range(n):
@@ -149,14 +143,14 @@ def _boxes(n, pts, counts):
 
 @njit(**JIT)
 def _boxes_meet(box, i, j):
-    """True when the bounding boxes of i and j overlap (``_boxes``)."""
+    """True when the bounding boxes of i and j overlap (``floe_boxes``)."""
     return (box[i, 0] <= box[j, 3] and box[j, 0] <= box[i, 3] and box[i, 1] <= box[j, 4] and box[j, 1] <= box[i, 4]
             and box[i, 2] <= box[j, 5] and box[j, 2] <= box[i, 5])
 
 
 @njit(**JIT)
-def _box_meets(box, pts, counts):
-    """True when the polyhedron (pts, counts)'s bounding box overlaps ``box`` (6,) (``_boxes``)."""
+def _polyhedron_meets_box(box, pts, counts):
+    """True when the polyhedron (pts, counts)'s bounding box overlaps ``box`` (6,) (``floe_boxes``)."""
     lo0 = lo1 = lo2 = math.inf
     hi0 = hi1 = hi2 = -math.inf
     for f in range(counts.shape[0]):
@@ -169,13 +163,11 @@ def _box_meets(box, pts, counts):
 
 
 @njit(**JIT)
-def _pair(i, j, gid, x, v, omega, mass, bound, pts, counts, planes, buf, kn, cn, zr, kt, mu, pressure, dt, step, cgid,
+def _pair(i, j, gid, x, v, omega, mass, pts, counts, planes, buf, kn, cn, zr, kt, mu, pressure, dt, step, cgid,
           stamp, hist, records, nrec, nplastic, worst):
-    """The contact of floes i and j, if they overlap (``floe_contacts``); returns the updated counts."""
+    """The contact of floes i and j, whose bounding spheres and boxes meet (``floe_contacts`` tests them),
+    if they overlap; returns the updated counts."""
     d0, d1, d2 = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2]  # scalars: no temporaries
-    reach = bound[i] + bound[j]
-    if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach:
-        return nrec, nplastic, worst
     a, b = (i, j) if gid[i] < gid[j] else (j, i)
     s, found = _find_slot(cgid, stamp, a, gid[b], step)
     # a pair in contact at the last step mostly still is: straight to its overlap; the others first try
@@ -290,14 +282,14 @@ def structure_contacts(lo, hi, stride, x, v, omega, mass, bound, pts, counts, s_
     Returns (records needed, contacts in plastic flow)."""
     nrec = 0
     nplastic = 0
-    s_box = _boxes(1, s_pts.reshape((1,) + s_pts.shape), s_counts.reshape((1,) + s_counts.shape))
+    s_box = floe_boxes(1, s_pts.reshape((1,) + s_pts.shape), s_counts.reshape((1,) + s_counts.shape))
     s_planes = face_planes(s_pts.reshape((1,) + s_pts.shape), s_counts.reshape((1,) + s_counts.shape))[0]
     for i in range(lo, hi, stride):
         d0, d1, d2 = x[i, 0] - s_centre[0], x[i, 1] - s_centre[1], x[i, 2] - s_centre[2]
         reach = bound[i] + s_bound
         if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach:
             continue
-        if not _box_meets(s_box[0], pts[i], counts[i]):
+        if not _polyhedron_meets_box(s_box[0], pts[i], counts[i]):
             continue
         if separated_by_planes(s_planes, s_counts, pts[i], counts[i]):
             continue
