@@ -3,7 +3,7 @@ jobs/gong_2017_keel_w17_3.toml (its width, length and depth scaled down) release
 and let rise for --warm seconds, then timed over --steps steps.
 
     python benchmarks/keel_settling.py [--width 8.66] [--length 2.0] [--depth 2.5] [--warm 6] [--steps 300]
-    python benchmarks/keel_settling.py --porosity MU [--width ...]
+    python benchmarks/keel_settling.py --porosity MU [--lock SPEED] [--width ...]
 
 Prints the blocks, the step [s], the wall time a step, the block contacts at the end and the wall
 time per contact (the step's whole cost over its contacts: an upper bound on the contact kernel's).
@@ -12,6 +12,7 @@ Compare commits by running it from each commit's tree, one after the other, on a
 With --porosity MU the keel is generated instead (physics/keel.generate_keel: settled to 5 mm/s
 within 60 s, with keel.settle_friction = MU, then trimmed) and its porosity printed: the measure of
 docs/ridge_keel.md, "Porosity" (MU 0.3: 0.615, core 0.589; MU 0: 0.387, core 0.327; a few minutes).
+--lock SPEED gives keel.lock_speed: the contact's friction returns below that RMS speed.
 """
 
 from __future__ import annotations
@@ -40,14 +41,16 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=300)
     ap.add_argument("--porosity", type=float, metavar="MU", help="generate with this settling friction and print "
                     "the keel's porosity instead of timing")
+    ap.add_argument("--lock", type=float, metavar="SPEED", help="[m/s] with --porosity: keel.lock_speed")
     args = ap.parse_args()
     job = load_job(JOB)
     keel = job.keel.model_copy(update=dict(width=args.width, length=args.length, depth=args.depth))
     job = job.model_copy(update=dict(keel=keel))
     if args.porosity is not None:
-        keel = keel.model_copy(update=dict(settle_friction=args.porosity, settle_speed=5e-3, settle_time=60.0))
+        keel = keel.model_copy(update=dict(settle_friction=args.porosity, settle_speed=5e-3, settle_time=60.0,
+                                           lock_speed=args.lock))
         k = generate_keel(job.model_copy(update=dict(keel=keel)), SerialComm())
-        print(f"settle_friction {args.porosity:g}: {k.released} blocks released, {len(k.x)} kept, settled at "
+        print(f"settle_friction {args.porosity:g}, lock_speed {args.lock}: {k.released} blocks released, {len(k.x)} kept, settled at "
               f"{k.settle_time:.1f} s (RMS {k.rms_speed:.2g} m/s); porosity {k.porosity:.3f}, core {k.core_porosity:.3f}")
         return
     rects, x, q = release_blocks(keel)

@@ -198,6 +198,14 @@ CASES = [
     case("keel_two_dashpots", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n"
          "contact = {damping = 1.75e4, damping_ratio = 0.3}\n",
          "keel.contact.damping_ratio = 0.3: damping is given too", "remove one"),
+    case("keel_lock_without_settle_friction", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n"
+         "lock_speed = 0.02\n",
+         "keel.lock_speed = 0.02: it ends the settling friction, and settle_friction is not given",
+         "give settle_friction (e.g. 0.0) or drop lock_speed"),
+    case("keel_lock_below_rest", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n"
+         "settle_friction = 0.0\nlock_speed = 0.001\n",
+         "keel.lock_speed = 0.001: the friction would return only once the blocks are at rest",
+         "give lock_speed > settle_speed"),
     # --- the ship of seed 002 (issue 15): a "ship" hull from Table 1's main dimensions (pice/platform/ship.py)
     case("ship_midbody_longer_than_length", BASE + WATER + SHIP.replace("midbody = 67.5", "midbody = 160.0"),
          "bodies[0].hull.midbody = 160.0: must be < length = 150 m"),

@@ -86,6 +86,9 @@ class KeelSpec(Section):
     # procedure): with it the pile locks loose (porosity 0.56-0.62 measured), frictionless (0) it packs
     # closer (0.33-0.39), but slides for longer; docs/ridge_keel.md "Porosity"
     settle_friction: quantity("", gt=None, ge=0.0) | None = None
+    # the RMS speed below which the contact's friction returns while the blocks settle (default: never;
+    # settle_friction to the end): frictionless packing, then locked by friction to rest
+    lock_speed: quantity("m/s") | None = None
     settle_time: quantity("s") = 120.0
     step_fraction: quantity("", le=0.2) = 0.1  # the step: this fraction of the shortest contact, m_eff / c_n
     file: str = ""  # the settled keel (default: beside the run file, <run>.keel.h5)
@@ -100,4 +103,12 @@ class KeelSpec(Section):
                              f"{self.depth:g} m; give width >= {(self.width - bottom) * (1 - TRIANGLE_SLACK):.4g} m "
                              "(a triangle) or a "
                              "shallower depth")
+        if self.lock_speed is not None:
+            if self.settle_friction is None:
+                raise ValueError("lock_speed: it ends the settling friction, and settle_friction is not given; "
+                                 "give settle_friction (e.g. 0.0) or drop lock_speed")
+            if self.lock_speed <= self.settle_speed:
+                raise ValueError("lock_speed: the friction would return only once the blocks are at rest "
+                                 f"(settle_speed = {self.settle_speed:g} m/s); give lock_speed > "
+                                 "settle_speed")
         return self

@@ -10,7 +10,9 @@ ends of the keel's length (y = y0 and y0 + length), where seed 002's basin walls
 x, walls at the keel's top corners while it settles (``keel_walls``), and the trim cuts the slopes.
 
 keel.settle_friction, when given, replaces the contact's friction while the blocks settle (the ship
-run has the contact's): docs/ridge_keel.md, "Porosity".
+run has the contact's): docs/ridge_keel.md, "Porosity". With keel.lock_speed the contact's friction
+returns once the RMS speed falls below it, and locks the packed pile to rest (a staged settling: the
+blocks pack without friction, then stop with it).
 
 Settled: the RMS speed of the blocks below keel.settle_speed, checked every SETTLE_CHECK s of
 simulated time; a generation that has not settled after keel.settle_time is refused with the speed it
@@ -130,20 +132,28 @@ def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
     dt = keel_step(keel, floes)
     every = max(1, int(round(SETTLE_CHECK / dt)))
     none = np.zeros((0, 13))
-    t, rms = 0.0, math.inf
+    t, rms, locked = 0.0, math.inf, False
     if resume is not None:
         t = float(resume[0])
         system.set_state(resume[1], f"{job.source}: the keel's generation checkpoint")
+        locked = bool(resume[1].get("friction_locked", False))
+        if locked:
+            floes.law = keel_law(keel)
     else:
         system.compute_forces(none, 0.0, dt)
     while t < keel.settle_time:
         t = settle_steps(system, every, t, dt)
         rms = math.sqrt(float((floes.v ** 2).sum(axis=1).mean()))
+        lock = not locked and keel.lock_speed is not None and rms < keel.lock_speed
+        if lock:  # the staged settling's second stage: the contact's friction stops the packed pile
+            locked, floes.law = True, keel_law(keel)
+            log.info("keel: RMS speed %.3g m/s at %.4g s, below keel.lock_speed: friction %g from now on", rms, t,
+                     floes.law.mu)
         if save is not None:
-            save(t, system.state())
+            save(t, {**system.state(), "friction_locked": np.array(locked)})
         if progress is not None:
             progress(t, rms, system.contacts)
-        if rms < keel.settle_speed:
+        if rms < keel.settle_speed and not lock:
             break
     else:
         raise JobError(f"{job.source}: keel.settle_time = {keel.settle_time:g}: the blocks still move at "

@@ -148,3 +148,5 @@ def test_the_blocks_settle_with_their_own_friction():
     assert settling_law(keel).kn == keel_law(keel).kn and settling_law(keel).zeta == keel_law(keel).zeta
     assert _generation_keys(keel)["settle_friction"] == 0.0
     assert "settle_friction" not in _generation_keys(_job().keel)  # unset: files from before it still match
+    keel = _job(settle_friction=0.0, lock_speed=0.02).keel  # the staged settling's speed is a generation key too
+    assert _generation_keys(keel)["lock_speed"] == 0.02 and "lock_speed" not in _generation_keys(_job().keel)
