@@ -197,7 +197,7 @@ def make_keel(job, *, output=None, base_dir=None, progress="stderr", comm=None) 
                   flush=True)
 
     gen = generation_path(path)  # a killed or unsettled generation is continued from it
-    resume = comm.bcast(read_generation(gen, job.keel) if comm.rank == 0 else None)
+    resume = comm.bcast(on_root(comm, lambda: read_generation(gen, job.keel, job.source)))
     if resume is not None and loud:
         print(f"pice keel: continuing the generation from t = {resume[0]:.4g} s ({gen})", file=progress, flush=True)
     keel = generate_keel(job, comm, progress=report, resume=resume,

@@ -10,9 +10,10 @@ killed generation leaves no half file.
 The generation checkpoint (``generation_path``: the keel file's name + ".gen.h5"): the settling
 blocks' state (physics/floe_system.FloeSystem.state) and the time reached, written at every check of
 their speed, so that `pice keel` continues a killed generation, or one that had not settled in
-keel.settle_time, where it stopped. It is kept for the same [keel] only (keel.settle_time and
-keel.settle_speed may change: they decide when to stop, not how the blocks move), and removed once
-the keel file is written.
+keel.settle_time, where it stopped. It is continued for the same [keel] only, its contact and step
+included (keel.settle_time and keel.settle_speed may change: they decide when to stop, not how the
+blocks move); a checkpoint of another is refused, not overwritten, with the keys that differ named.
+It is removed once the keel file is written.
 """
 
 from __future__ import annotations
@@ -105,6 +106,12 @@ def _settling_keys(keel) -> str:
     return json.dumps({k: v for k, v in _generation_keys(keel).items() if k not in _STOP_KEYS}, sort_keys=True)
 
 
+def _settling_run_keys(keel) -> str:
+    """The keel file's run keys that the settling depends on too (the contact law, the step)."""
+    return json.dumps({k: v for k, v in keel.model_dump(mode="json").items() if k in ("contact", "step_fraction")},
+                      sort_keys=True)
+
+
 def write_generation(path, keel, t: float, state: dict) -> None:
     """The settling blocks' ``state`` at time ``t`` [s] to the generation checkpoint ``path`` (atomic)."""
     import h5py
@@ -115,13 +122,15 @@ def write_generation(path, keel, t: float, state: dict) -> None:
     with h5py.File(tmp, "w") as f:
         for name, value in state.items():
             f[name] = np.asarray(value)
-        f.attrs.update(format=KEEL_FORMAT, keel=_settling_keys(keel), time=float(t))
+        f.attrs.update(format=KEEL_FORMAT, keel=_settling_keys(keel), run_keys=_settling_run_keys(keel), time=float(t))
     os.replace(tmp, path)
 
 
-def read_generation(path, keel):
+def read_generation(path, keel, source: str = "job"):
     """(t [s], state) of the generation checkpoint at ``path`` when it was written for this [keel], else
-    None (no file, another keel, or not readable: the generation starts afresh)."""
+    None (no file, or not readable: the generation starts afresh); JobError when it was written for
+    another keel, naming the keys that differ (a checkpoint written before its contact and step were
+    recorded is taken on its [keel] alone)."""
     import h5py
 
     path = pathlib.Path(path)
@@ -129,8 +138,19 @@ def read_generation(path, keel):
         return None
     try:
         with h5py.File(path, "r") as f:
-            if f.attrs.get("keel") != _settling_keys(keel) or int(f.attrs.get("format", 0)) != KEEL_FORMAT:
+            if int(f.attrs.get("format", 0)) != KEEL_FORMAT:
                 return None
-            return float(f.attrs["time"]), {k: f[k][()] for k in f.keys()}
-    except (OSError, KeyError):
+            made = json.loads(f.attrs["keel"])
+            run = f.attrs.get("run_keys")
+            if run is not None:
+                made.update(json.loads(run))
+            want = {**json.loads(_settling_keys(keel)), **json.loads(_settling_run_keys(keel))}
+            if run is None:
+                want = {k: v for k, v in want.items() if k in json.loads(_settling_keys(keel))}
+            differ = sorted(k for k in set(made) | set(want) if made.get(k) != want.get(k))
+            if not differ:
+                return float(f.attrs["time"]), {k: f[k][()] for k in f.keys()}
+    except (OSError, KeyError, ValueError):
         return None
+    raise JobError(f"{source}: {str(path)!r}: a generation checkpoint of another keel (keel.{', keel.'.join(differ)} "
+                   "differ); give those keys back to continue it, or remove it to start afresh")

@@ -122,7 +122,8 @@ def test_an_unsettled_generation_is_continued_where_it_stopped(micro, tmp_path, 
     """`pice keel` with a keel.settle_time too short to settle is refused (exit 2), and leaves its
     generation checkpoint (io/keel_file.py); the same job with the default settle_time continues from
     it and writes, bit for bit, the keel of a generation never stopped (the micro fixture's, the same
-    seed), then removes the checkpoint. The stop falls after the staged settling's lock (the micro
+    seed), then removes the checkpoint; a job with another [keel.contact] is refused and leaves the
+    checkpoint as it was. The stop falls after the staged settling's lock (the micro
     keel's RMS speed falls below keel.lock_speed at 15.5 s and it settles at 18.5 s), so the
     continued generation must keep the contact's friction, not the settling's."""
     folder, _ = micro
@@ -134,6 +135,11 @@ def test_an_unsettled_generation_is_continued_where_it_stopped(micro, tmp_path, 
     assert gen.exists() and not (tmp_path / "micro.keel.h5").exists()
     with h5py.File(gen) as f:
         assert f["friction_locked"][()], "the stop must fall after the lock for this test to check it"
+    before = gen.read_bytes()
+    job.write_text(KEEL.format(duration=2.0, seed=1).replace("file = ", "contact = {friction = 0.6}\nfile = "))
+    assert main(["keel", str(job)]) == 2  # another contact: refused, the checkpoint kept as it was
+    assert "a generation checkpoint of another keel (keel.contact differ)" in capsys.readouterr().err
+    assert gen.read_bytes() == before
     job.write_text(KEEL.format(duration=2.0, seed=1))
     assert main(["keel", str(job)]) == 0
     assert "continuing the generation from t = 1" in capsys.readouterr().err
