@@ -36,6 +36,8 @@ CASES = [
     # --- unknown keys (pydantic extra="forbid"): the message lists the allowed keys
     case("unknown_top_level_key", add("", 'colour = "blue"'),
          "colour = 'blue': unknown key; expected one of: run, gravity, water, ice, floes, waves, keel, bond, contact, walls"),
+    case("study_file_as_job", '[study]\njob = "a.toml"\n\n[study.vary]\n"run.dt" = [1.0e-3, 2.0e-3]\n',
+         "[study] (job = 'a.toml'): a study file, not a job; run it with: pice study "),
     case("unknown_key_in_section", add("ice", "thicknes = 2.0"),
          "ice.thicknes = 2.0: unknown key; expected one of: density, thickness, element_diameter, length"),
     case("unknown_key_in_wall", BASE + PLANE + "normal = [0.0, 0.0, 1.0]\ncolor = 3\n",

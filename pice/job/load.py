@@ -33,6 +33,10 @@ def load_job(path: str | pathlib.Path) -> Job:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise JobError(f"{path}: not valid TOML: {exc}") from None
+    if isinstance(data.get("study"), dict):  # a sweep's file (pice/study/sweep.py), not a job
+        job = data["study"].get("job", "(absent)")
+        raise JobError(f"{path}: [study] (job = {job!r}): a study file, not a job; run it with: pice study {path} "
+                       "(or give its job file)")
     return parse_job(data, source=str(path), text=text, base_dir=path.parent)
 
 
