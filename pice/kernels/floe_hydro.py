@@ -49,12 +49,14 @@ def floe_sea(lo, hi, stride, x, amp, omega, k, direction, phase, depth, g, rho_w
 
 
 @njit(**JIT)
-def floe_water(lo, hi, stride, x, v, omega, rot, mass, inertia, area, pts, counts, level, rho_w, g, current, skin, form,
-               damping_ratio, wave, added, force, torque):
+def floe_water(lo, hi, stride, x, v, omega, rot, mass, inertia, area, volume, pts, counts, level, rho_w, g, current, skin,
+               form, damping_ratio, wave, added, force, torque):
     """Add the water's forces [N] and torques about each centre [N m] to the floes lo, lo + stride, ... below hi; returns the
     total submerged volume [m^3]. omega (n, 3) [rad/s] and the torques in space; rot (n, 3, 3) each
     floe's attitude (body to space, its principal axes); pts, counts: world polyhedra; area:
-    water-plane areas [m^2]; inertia (n, 3) principal moments [kg m^2]; current (2,) [m/s]; skin
+    water-plane areas [m^2]; volume (n,) each floe's volume [m^3] (a floe wholly under the surface,
+    a keel's block, floats on it about its centre, with no clipping); inertia (n, 3) principal
+    moments [kg m^2]; current (2,) [m/s]; skin
     C_w, form C_d [-]; ``wave`` (n, 6): the sea at each floe's centre of mass (``floe_sea``: eta, u_x,
     u_y, a_x, a_y, a_z; an empty array: still water), whose acceleration drives the Froude-Krylov
     force and whose particle velocity adds to the current in the drag (module docstring). With
@@ -74,18 +76,29 @@ def floe_water(lo, hi, stride, x, v, omega, rot, mass, inertia, area, pts, count
         u0, u1 = flow0 - v[i, 0], flow1 - v[i, 1]
         speed = math.sqrt(u0 * u0 + u1 * u1)
         across0, across1 = (-u1 / speed, u0 / speed) if speed > 0.0 else (0.0, 0.0)  # across the flow
-        # the submerged part (kernels/polyhedron_contact.part_inside): volume, centre of buoyancy, its extent
-        # across the flow and its lowest point
-        vol, cob, _, wide_lo, wide_hi, zmin = part_inside(pts[i], counts[i], 0.0, 0.0, 1.0, level + eta, buf,
-                                                          across0, across1)
+        # the submerged part: volume, centre of buoyancy, its extent across the flow and its lowest point;
+        # the whole floe when every vertex is under the surface, else clipped at it
+        # (kernels/polyhedron_contact.part_inside)
+        wide_lo, wide_hi, zmin, zmax = math.inf, -math.inf, math.inf, -math.inf
+        for f in range(counts.shape[1]):
+            for j in range(counts[i, f]):
+                across = pts[i, f, j, 0] * across0 + pts[i, f, j, 1] * across1
+                wide_lo, wide_hi = min(wide_lo, across), max(wide_hi, across)
+                zmin, zmax = min(zmin, pts[i, f, j, 2]), max(zmax, pts[i, f, j, 2])
         force[i, 2] -= mass[i] * g
+        if zmax <= level + eta:
+            vol, cb0, cb1 = volume[i], x[i, 0], x[i, 1]
+        else:
+            vol, cob, _, wide_lo, wide_hi, zmin = part_inside(pts[i], counts[i], 0.0, 0.0, 1.0, level + eta, buf,
+                                                              across0, across1)
+            cb0, cb1 = cob[0], cob[1]
         if vol <= 0.0:
             continue
         total += vol
         fb = rho_w * g * vol
         force[i, 2] += fb
-        torque[i, 0] += (cob[1] - x[i, 1]) * fb
-        torque[i, 1] -= (cob[0] - x[i, 0]) * fb
+        torque[i, 0] += (cb1 - x[i, 1]) * fb
+        torque[i, 1] -= (cb0 - x[i, 0]) * fb
         # heave, roll and pitch damping
         k_heave = rho_w * g * area[i]
         force[i, 2] -= damping_ratio * 2.0 * math.sqrt(k_heave * mass[i]) * v[i, 2]

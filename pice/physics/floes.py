@@ -223,7 +223,8 @@ class Floes:
             return
         rot = floe_rotations(self.q)
         wave = self.sea_at_floes(lo, hi, dt, stride) if w.sea is not None else np.zeros((0, 6))
-        floe_water(lo, hi, stride, self.x, self.v, omega, rot, self.mass, self.inertia_rigid, self.area, pts, counts,
+        floe_water(lo, hi, stride, self.x, self.v, omega, rot, self.mass, self.inertia_rigid, self.area,
+                   self.area * self.thickness, pts, counts,
                    w.level, w.density, w.gravity, np.asarray(w.current, float), w.skin, w.form, w.damping_ratio, wave,
                    self.added, self.force, self.torque)
 

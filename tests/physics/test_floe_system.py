@@ -200,3 +200,32 @@ def test_the_peak_load_of_a_floe_on_the_cone_hardly_depends_on_the_step():
     fine, default = peak(0.01), peak(0.05)
     assert fine > 1e5
     assert abs(default - fine) <= 0.02 * fine, (default, fine)
+
+
+def test_a_floe_wholly_under_water_floats_on_its_whole_volume():
+    """A keel's block under the cover is wholly submerged: kernels/floe_hydro.floe_water takes its
+    buoyancy as rho_w g V at its centre without clipping it at the surface. Reference: Archimedes, and
+    the clipped part (kernels/polyhedron_contact.part_inside, the path a floe at the surface takes) of
+    the same tilted block cut by a plane above it, whose volume and centre must be the whole block's
+    (to 1e-12: round-off of sums over 6 faces); at rest the net vertical force is (rho_w V - m) g and
+    the torque zero (1e-9 of the buoyancy times the block's size)."""
+    from pice.kernels.geometry import quat_mul
+    from pice.kernels.polyhedron_contact import part_inside
+
+    rect = np.array([[-0.5, -0.31], [0.5, -0.31], [0.5, 0.31], [-0.5, 0.31]])
+    water = FloeWater(density=1010.0, level=0.0, gravity=9.81, current=(0.0, 0.0), sea=None)
+    floes = Floes([rect + [3.0, 1.0]], np.array([0.3]), density=920.0, base=np.array([-4.0]), law=FloeLaw(),
+                  water=water)
+    tilt = np.array([np.cos(0.2), np.sin(0.2) * 0.6, np.sin(0.2) * 0.8, 0.0])  # 23 deg about a horizontal axis
+    floes.q[0] = quat_mul(tilt, floes.q[0])
+    pts, counts = floes.world()
+    assert pts[0, ..., 2][np.arange(pts.shape[2])[None, :] < counts[0][:, None]].max() < -3.0  # under water
+    volume = floes.area[0] * 0.3
+    floes.force[:], floes.torque[:] = 0.0, 0.0
+    floes.water_loads(0, 1, pts, counts, floes.omega, 1e-3)
+    g, fb = 9.81, 1010.0 * 9.81 * volume
+    assert abs(floes.force[0, 2] - (fb - floes.mass[0] * g)) <= 1e-12 * fb
+    assert np.abs(floes.torque[0]).max() <= 1e-9 * fb
+    vol, centre, *_ = part_inside(pts[0], counts[0], 0.0, 0.0, 1.0, 10.0, np.empty((2, pts.shape[2] + 2, 3)))
+    assert abs(vol - volume) <= 1e-12 * volume
+    assert np.abs(centre - floes.x[0]).max() <= 1e-12 * 4.0
