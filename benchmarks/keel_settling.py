@@ -3,7 +3,7 @@ jobs/gong_2017_keel_w17_3.toml (its width, length and depth scaled down) release
 and let rise for --warm seconds, then timed over --steps steps.
 
     python benchmarks/keel_settling.py [--width 8.66] [--length 2.0] [--depth 2.5] [--warm 6] [--steps 300]
-    python benchmarks/keel_settling.py --porosity MU [--lock SPEED] [--width ...]
+    python benchmarks/keel_settling.py --porosity MU [--lock SPEED] [--seed N] [--width ...]
 
 Prints the blocks, the step [s], the wall time a step, the block contacts at the end and the wall
 time per contact (the step's whole cost over its contacts: an upper bound on the contact kernel's).
@@ -42,9 +42,11 @@ def main() -> None:
     ap.add_argument("--porosity", type=float, metavar="MU", help="generate with this settling friction and print "
                     "the keel's porosity instead of timing")
     ap.add_argument("--lock", type=float, metavar="SPEED", help="[m/s] with --porosity: keel.lock_speed")
+    ap.add_argument("--seed", type=int, help="keel.seed (default: the job's)")
     args = ap.parse_args()
     job = load_job(JOB)
-    keel = job.keel.model_copy(update=dict(width=args.width, length=args.length, depth=args.depth))
+    keel = job.keel.model_copy(update=dict(width=args.width, length=args.length, depth=args.depth,
+                                           seed=job.keel.seed if args.seed is None else args.seed))
     job = job.model_copy(update=dict(keel=keel))
     if args.porosity is not None:
         keel = keel.model_copy(update=dict(settle_friction=args.porosity, settle_speed=5e-3, settle_time=60.0,
