@@ -4,7 +4,8 @@ generation"): the blocks that ``pice keel`` settled and trimmed, with what gener
 HDF5: ``rects`` (n, 4, 2) [m] each block's rectangle in its principal frame, ``x`` (n, 3) [m] its
 centre, ``q`` (n, 4) its attitude; attributes: the [keel] it was generated from (JSON, the key
 ``keel``), the porosity of the keel and of its core, the time it took to settle [s], the RMS speed
-then [m/s], the number released, and ``format``. Written to a temporary name and renamed, so a
+then [m/s], the number released, the time the staged settling's friction returned (``locked_at``
+[s], NaN without keel.lock_speed), and ``format``. Written to a temporary name and renamed, so a
 killed generation leaves no half file.
 
 The generation checkpoint (``generation_path``: the keel file's name + ".gen.h5"): the settling
@@ -56,7 +57,7 @@ def write_keel(path, keel, result) -> pathlib.Path:
         f["rects"], f["x"], f["q"] = result.rects, result.x, result.q
         f.attrs.update(format=KEEL_FORMAT, keel=json.dumps(_generation_keys(keel)),
                        contact=json.dumps(keel.contact.model_dump(mode="json")), porosity=result.porosity,
-                       core_porosity=result.core_porosity, settle_time=result.settle_time,
+                       core_porosity=result.core_porosity, settle_time=result.settle_time, locked_at=result.locked_at,
                        rms_speed=result.rms_speed, released=result.released)
     os.replace(tmp, path)
     return path

@@ -44,7 +44,7 @@ class Keel:
     """A generated keel: its blocks (rectangles (n, 4, 2) [m] in their frames, centres (n, 3) [m],
     attitudes (n, 4)), the time it took to settle [s], the RMS speed then [m/s], the released count
     and the porosity of the trimmed keel (whole prism and its core 0.5 m in from the slopes and the
-    bottom)."""
+    bottom); the time the staged settling's friction returned [s] (NaN: no keel.lock_speed)."""
 
     rects: np.ndarray
     x: np.ndarray
@@ -54,6 +54,7 @@ class Keel:
     released: int
     porosity: float
     core_porosity: float
+    locked_at: float = math.nan
 
 
 def keel_law(keel) -> FloeLaw:
@@ -132,11 +133,12 @@ def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
     dt = keel_step(keel, floes)
     every = max(1, int(round(SETTLE_CHECK / dt)))
     none = np.zeros((0, 13))
-    t, rms, locked = 0.0, math.inf, False
+    t, rms, locked, locked_at = 0.0, math.inf, False, math.nan
     if resume is not None:
         t = float(resume[0])
         system.set_state(resume[1], f"{job.source}: the keel's generation checkpoint")
         locked = bool(resume[1].get("friction_locked", False))
+        locked_at = float(resume[1].get("locked_at", math.nan))
         if locked:
             floes.law = keel_law(keel)
     else:
@@ -146,11 +148,11 @@ def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
         rms = math.sqrt(float((floes.v ** 2).sum(axis=1).mean()))
         lock = not locked and keel.lock_speed is not None and rms < keel.lock_speed
         if lock:  # the staged settling's second stage: the contact's friction stops the packed pile
-            locked, floes.law = True, keel_law(keel)
+            locked, locked_at, floes.law = True, t, keel_law(keel)
             log.info("keel: RMS speed %.3g m/s at %.4g s, below keel.lock_speed: friction %g from now on", rms, t,
                      floes.law.mu)
         if save is not None:
-            save(t, {**system.state(), "friction_locked": np.array(locked)})
+            save(t, {**system.state(), "friction_locked": np.array(locked), "locked_at": np.array(locked_at)})
         if progress is not None:
             progress(t, rms, system.contacts)
         if rms < keel.settle_speed and not lock:
@@ -167,7 +169,7 @@ def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
     p_core = porosity(keel, centres, turned, body, keel.blocks.thickness, core=0.5)
     log.info("keel: %d of %d blocks settled in %.4g s (RMS speed %.3g m/s) lie inside the keel; porosity %.3f "
              "(core %.3f)", int(keep.sum()), len(rects), t, rms, p_all, p_core)
-    return Keel(body, centres, turned, t, rms, len(rects), p_all, p_core)
+    return Keel(body, centres, turned, t, rms, len(rects), p_all, p_core, locked_at)
 
 
 

@@ -123,14 +123,18 @@ def test_an_unsettled_generation_is_continued_where_it_stopped(micro, tmp_path, 
     generation checkpoint (io/keel_file.py); the same job with the default settle_time continues from
     it and writes, bit for bit, the keel of a generation never stopped (the micro fixture's, the same
     seed), then removes the checkpoint; a job with another [keel.contact] is refused and leaves the
-    checkpoint as it was. The stop falls after the staged settling's lock (the micro
-    keel's RMS speed falls below keel.lock_speed at 15.5 s and it settles at 18.5 s), so the
-    continued generation must keep the contact's friction, not the settling's."""
+    checkpoint as it was. The stop falls at the check where the staged settling's friction returned
+    (the fixture's keel file records when: locked_at), so the continued generation must keep the
+    contact's friction, not the settling's."""
     folder, _ = micro
+    with h5py.File(folder / "micro.keel.h5") as f:
+        locked_at, settled = float(f.attrs["locked_at"]), float(f.attrs["settle_time"])
+    assert 0.0 < locked_at < settled
+    stop = round(locked_at - 0.01, 2)  # the last check is the lock's; the next would pass settle_time
     job = tmp_path / "micro.toml"
-    job.write_text(KEEL.format(duration=2.0, seed=1).replace("file = ", "settle_time = 16.0\nfile = "))
+    job.write_text(KEEL.format(duration=2.0, seed=1).replace("file = ", f"settle_time = {stop}\nfile = "))
     assert main(["keel", str(job)]) == 2
-    assert "keel.settle_time = 16: the blocks still move" in capsys.readouterr().err
+    assert f"keel.settle_time = {stop:g}: the blocks still move" in capsys.readouterr().err
     gen = tmp_path / "micro.keel.h5.gen.h5"
     assert gen.exists() and not (tmp_path / "micro.keel.h5").exists()
     with h5py.File(gen) as f:
