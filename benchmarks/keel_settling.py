@@ -13,6 +13,10 @@ With --porosity MU the keel is generated instead (physics/keel.generate_keel: se
 within 60 s, with keel.settle_friction = MU, then trimmed) and its porosity printed: the measure of
 docs/ridge_keel.md, "Porosity" (MU 0.3: 0.615, core 0.589; MU 0: 0.387, core 0.327; a few minutes).
 --lock SPEED gives keel.lock_speed: the contact's friction returns below that RMS speed.
+
+With --checkpoint FILE (a generation checkpoint of jobs/gong_2017_keel_w17_3.toml, <keel file>.gen.h5)
+the pile it holds is trimmed as the generation trims it and its porosity printed: the full-size
+figures of docs/ridge_keel.md, "The narrow keel with the staged settling".
 """
 
 from __future__ import annotations
@@ -43,8 +47,13 @@ def main() -> None:
                     "the keel's porosity instead of timing")
     ap.add_argument("--lock", type=float, metavar="SPEED", help="[m/s] with --porosity: keel.lock_speed")
     ap.add_argument("--seed", type=int, help="keel.seed (default: the job's)")
+    ap.add_argument("--checkpoint", metavar="FILE", help="the porosity of this generation checkpoint of the job's "
+                    "full-size keel instead")
     args = ap.parse_args()
     job = load_job(JOB)
+    if args.checkpoint:
+        checkpoint_porosity(job, args.checkpoint)
+        return
     keel = job.keel.model_copy(update=dict(width=args.width, length=args.length, depth=args.depth,
                                            seed=job.keel.seed if args.seed is None else args.seed))
     job = job.model_copy(update=dict(keel=keel))
@@ -70,6 +79,26 @@ def main() -> None:
     print(f"step                {dt:.3g} s; {args.steps} steps after {args.warm:g} s of settling")
     print(f"wall time           {1e3 * wall:.3f} ms a step; {contacts} block contacts at the end: "
           f"{1e6 * wall / max(contacts, 1):.2f} us a contact (the whole step)")
+
+
+def checkpoint_porosity(job, path) -> None:
+    """Print the trimmed porosity of the pile in the generation checkpoint ``path`` of ``job``'s keel."""
+    import h5py
+
+    from pice.scenes.rubble import inside_keel, porosity
+
+    keel = job.keel
+    rects = release_blocks(keel)[0]
+    with h5py.File(path) as f:
+        t, x, q, v = float(f.attrs["time"]), f["x"][()], f["q"][()], f["v"][()]
+    keep = inside_keel(keel, x)
+    # the prisms' polygons in their principal frames (Floes), which q turns
+    body = np.array(blocks_as_floes(keel, rects, x, q, keel_law(keel), keel_water(job)).polygons)[keep]
+    p_all = porosity(keel, x[keep], q[keep], body, keel.blocks.thickness)
+    p_core = porosity(keel, x[keep], q[keep], body, keel.blocks.thickness, core=0.5)
+    speed = np.linalg.norm(v, axis=1)
+    print(f"t = {t:.4g} s: {keep.sum():,} of {len(x):,} blocks in the keel; porosity {p_all:.3f}, core {p_core:.3f}; "
+          f"RMS speed {np.sqrt((speed ** 2).mean()):.3g} m/s, median {np.median(speed):.3g} m/s")
 
 
 if __name__ == "__main__":
