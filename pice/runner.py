@@ -7,6 +7,7 @@ series rows, events, snapshots, the status at the end), in either of the two mod
 
 from __future__ import annotations
 
+import math
 import pathlib
 import signal
 import sys
@@ -206,7 +207,9 @@ def make_keel(job, *, output=None, base_dir=None, progress="stderr", comm=None) 
     on_root(comm, lambda: gen.unlink(missing_ok=True))
     took = wall.perf_counter() - t0
     line = (f"pice keel: {path}: {len(keel.x):,} of {keel.released:,} blocks in the keel, settled in "
-            f"{keel.settle_time:.4g} s (RMS {keel.rms_speed:.2g} m/s); porosity {keel.porosity:.3f} (core "
+            f"{keel.settle_time:.4g} s (RMS {keel.rms_speed:.2g} m/s"
+            + (f", friction back from {keel.locked_at:.4g} s" if math.isfinite(keel.locked_at) else "")
+            + f"); porosity {keel.porosity:.3f} (core "
             f"{keel.core_porosity:.3f}); {took:.1f} s of wall time")
     return dict(file=str(path), blocks=len(keel.x), released=keel.released, settle_time=keel.settle_time,
                 rms_speed=keel.rms_speed, porosity=keel.porosity, core_porosity=keel.core_porosity,

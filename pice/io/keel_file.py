@@ -141,13 +141,11 @@ def read_generation(path, keel, source: str = "job"):
         with h5py.File(path, "r") as f:
             if int(f.attrs.get("format", 0)) != KEEL_FORMAT:
                 return None
-            made = json.loads(f.attrs["keel"])
-            run = f.attrs.get("run_keys")
+            made, want = json.loads(f.attrs["keel"]), json.loads(_settling_keys(keel))
+            run = f.attrs.get("run_keys")  # absent from checkpoints written before it: [keel] alone
             if run is not None:
                 made.update(json.loads(run))
-            want = {**json.loads(_settling_keys(keel)), **json.loads(_settling_run_keys(keel))}
-            if run is None:
-                want = {k: v for k, v in want.items() if k in json.loads(_settling_keys(keel))}
+                want.update(json.loads(_settling_run_keys(keel)))
             differ = sorted(k for k in set(made) | set(want) if made.get(k) != want.get(k))
             if not differ:
                 return float(f.attrs["time"]), {k: f[k][()] for k in f.keys()}

@@ -137,8 +137,8 @@ def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
     if resume is not None:
         t = float(resume[0])
         system.set_state(resume[1], f"{job.source}: the keel's generation checkpoint")
-        locked = bool(resume[1].get("friction_locked", False))
         locked_at = float(resume[1].get("locked_at", math.nan))
+        locked = math.isfinite(locked_at)
         if locked:
             floes.law = keel_law(keel)
     else:
@@ -152,7 +152,7 @@ def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
             log.info("keel: RMS speed %.3g m/s at %.4g s, below keel.lock_speed: friction %g from now on", rms, t,
                      floes.law.mu)
         if save is not None:
-            save(t, {**system.state(), "friction_locked": np.array(locked), "locked_at": np.array(locked_at)})
+            save(t, {**system.state(), "locked_at": np.array(locked_at)})
         if progress is not None:
             progress(t, rms, system.contacts)
         if rms < keel.settle_speed and not lock:

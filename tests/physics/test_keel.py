@@ -138,7 +138,7 @@ def test_an_unsettled_generation_is_continued_where_it_stopped(micro, tmp_path, 
     gen = tmp_path / "micro.keel.h5.gen.h5"
     assert gen.exists() and not (tmp_path / "micro.keel.h5").exists()
     with h5py.File(gen) as f:
-        assert f["friction_locked"][()], "the stop must fall after the lock for this test to check it"
+        assert f["locked_at"][()] == locked_at, "the stop must fall at the lock for this test to check it"
     before = gen.read_bytes()
     job.write_text(KEEL.format(duration=2.0, seed=1).replace("file = ", "contact = {friction = 0.6}\nfile = "))
     assert main(["keel", str(job)]) == 2  # another contact: refused, the checkpoint kept as it was
