@@ -13,13 +13,17 @@ blocks' state (physics/floe_system.FloeSystem.state) and the time reached, writt
 their speed, so that `pice keel` continues a killed generation, or one that had not settled in
 keel.settle_time, where it stopped. It is continued for the same [keel] only, its contact and step
 included (keel.settle_time and keel.settle_speed may change: they decide when to stop, not how the
-blocks move); a checkpoint of another is refused, not overwritten, with the keys that differ named.
+blocks move; so may keel.lock_speed until the staged settling's friction has returned, as it decides
+when that happens: a pile whose speed decays slowly can be locked sooner, and the keel file records
+when it was, locked_at); a checkpoint of another is refused, not overwritten, with the keys that
+differ named.
 It is removed once the keel file is written.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import os
 import pathlib
 
@@ -93,7 +97,7 @@ def read_keel(path, keel, source: str) -> dict:
 
 
 # keys of [keel] that decide when the settling stops, not how the blocks move: a generation checkpoint
-# written under other values is continued
+# written under other values is continued (and under another lock_speed while it has not locked)
 _STOP_KEYS = ("settle_time", "settle_speed")
 
 
@@ -101,10 +105,6 @@ def generation_path(path) -> pathlib.Path:
     """The generation checkpoint beside the keel file ``path``."""
     path = pathlib.Path(path)
     return path.with_name(path.name + ".gen.h5")
-
-
-def _settling_keys(keel) -> str:
-    return json.dumps({k: v for k, v in _generation_keys(keel).items() if k not in _STOP_KEYS}, sort_keys=True)
 
 
 def _settling_run_keys(keel) -> str:
@@ -123,7 +123,8 @@ def write_generation(path, keel, t: float, state: dict) -> None:
     with h5py.File(tmp, "w") as f:
         for name, value in state.items():
             f[name] = np.asarray(value)
-        f.attrs.update(format=KEEL_FORMAT, keel=_settling_keys(keel), run_keys=_settling_run_keys(keel), time=float(t))
+        f.attrs.update(format=KEEL_FORMAT, keel=json.dumps(_generation_keys(keel), sort_keys=True),
+                       run_keys=_settling_run_keys(keel), time=float(t))
     os.replace(tmp, path)
 
 
@@ -141,7 +142,10 @@ def read_generation(path, keel, source: str = "job"):
         with h5py.File(path, "r") as f:
             if int(f.attrs.get("format", 0)) != KEEL_FORMAT:
                 return None
-            made, want = json.loads(f.attrs["keel"]), json.loads(_settling_keys(keel))
+            made, want = json.loads(f.attrs["keel"]), _generation_keys(keel)
+            locked = "locked_at" in f and math.isfinite(float(f["locked_at"][()]))
+            free = _STOP_KEYS if locked else _STOP_KEYS + ("lock_speed",)
+            made, want = ({k: v for k, v in d.items() if k not in free} for d in (made, want))
             run = f.attrs.get("run_keys")  # absent from checkpoints written before it: [keel] alone
             if run is not None:
                 made.update(json.loads(run))

@@ -158,14 +158,15 @@ def test_an_unsettled_generation_is_continued_where_it_stopped(micro, tmp_path, 
 def test_the_staged_settling_packs_a_keel_to_the_porosity_of_rubble():
     """Seed 002 (section 2) reports its keels' porosity at about 0.3; issue 15 asks 0.25-0.40. The
     settling of jobs/gong_2017_keel_w17_3.toml (frictionless packing, the contact's friction 0.3 once
-    the RMS speed is below 3 cm/s: keel.settle_friction, keel.lock_speed) on a keel scaled down to
+    the RMS speed is below 5 cm/s: keel.settle_friction, keel.lock_speed) on a keel scaled down to
     8.66 m x 2 m x 2.5 m (180 blocks), its porosity measured by Monte Carlo on the trimmed keel
     (standard error 0.001 at 200,000 points: scenes/rubble.porosity).
 
     The packing is the core's porosity (0.5 m in from the slopes and the bottom): in 0.25-0.40.
     The whole prism of so small a keel also holds the loose layers along its trimmed slopes and its
-    end walls 2 m apart: benchmarks/keel_settling.py --porosity 0 --lock 0.03 --seed 1, 2, 3 measured
-    0.383, 0.389, 0.408 (cores 0.328, 0.335, 0.364), so it is held below 0.45. The same keel settled
+    end walls 2 m apart: benchmarks/keel_settling.py --porosity 0 --lock 0.05 measured 0.387 (core
+    0.337), and --lock 0.03 --seed 1, 2, 3 0.383, 0.389, 0.408 (cores 0.328, 0.335, 0.364), so it is
+    held below 0.45. The same keel settled
     with the friction throughout packs at 0.615 (core 0.589; docs/ridge_keel.md, "Porosity"): both
     bounds exclude it."""
     import pathlib
@@ -174,7 +175,7 @@ def test_the_staged_settling_packs_a_keel_to_the_porosity_of_rubble():
     from pice.physics.keel import generate_keel
 
     job = load_job(pathlib.Path(__file__).resolve().parents[2] / "jobs" / "gong_2017_keel_w17_3.toml")
-    assert job.keel.settle_friction == 0.0 and job.keel.lock_speed == 0.03
+    assert job.keel.settle_friction == 0.0 and job.keel.lock_speed == 0.05
     keel = job.keel.model_copy(update=dict(width=8.66, length=2.0, depth=2.5, settle_speed=5e-3, settle_time=60.0))
     k = generate_keel(job.model_copy(update=dict(keel=keel)), SerialComm())
     assert k.rms_speed < 5e-3
