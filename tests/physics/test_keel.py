@@ -144,6 +144,10 @@ def test_an_unsettled_generation_is_continued_where_it_stopped(micro, tmp_path, 
     assert main(["keel", str(job)]) == 2  # another contact: refused, the checkpoint kept as it was
     assert "a generation checkpoint of another keel (keel.contact differ)" in capsys.readouterr().err
     assert gen.read_bytes() == before
+    job.write_text(KEEL.format(duration=2.0, seed=1).replace("lock_speed = 0.03", "lock_speed = 0.04"))
+    assert main(["keel", str(job)]) == 2  # locked: the lock speed is a generation key again
+    assert "a generation checkpoint of another keel (keel.lock_speed differ)" in capsys.readouterr().err
+    assert gen.read_bytes() == before
     job.write_text(KEEL.format(duration=2.0, seed=1))
     assert main(["keel", str(job)]) == 0
     assert "continuing the generation from t = 1" in capsys.readouterr().err
@@ -152,6 +156,29 @@ def test_an_unsettled_generation_is_continued_where_it_stopped(micro, tmp_path, 
         for key in ("x", "q", "rects"):
             assert np.array_equal(f[key][()], g[key][()]), key
         assert f.attrs["settle_time"] == g.attrs["settle_time"]
+
+
+def test_a_generation_not_yet_locked_continues_under_another_lock_speed(micro, tmp_path, capsys):
+    """keel.lock_speed decides when the staged settling's friction returns, so a generation stopped
+    before its lock may be continued with another (io/keel_file.py): stopped one check (0.5 s) before
+    the check at which the fixture's locked, and continued with a lock speed above any RMS speed, it
+    locks at the first check after the restart, 0.5 s sooner than the fixture, and its keel file
+    records that time and the new lock speed."""
+    folder, _ = micro
+    with h5py.File(folder / "micro.keel.h5") as f:
+        locked_at = float(f.attrs["locked_at"])
+    stop = round(locked_at - 1.01, 2)  # the last check falls 1 s before the fixture's lock
+    job = tmp_path / "micro.toml"
+    job.write_text(KEEL.format(duration=2.0, seed=1).replace("file = ", f"settle_time = {stop}\nfile = "))
+    assert main(["keel", str(job)]) == 2
+    capsys.readouterr()
+    job.write_text(KEEL.format(duration=2.0, seed=1).replace("lock_speed = 0.03", "lock_speed = 10.0"))
+    assert main(["keel", str(job)]) == 0
+    assert "continuing the generation from t = " in capsys.readouterr().err
+    with h5py.File(tmp_path / "micro.keel.h5") as f:
+        # the checks fall every round(0.5 s / dt) steps: one check is 0.5 s within half a step (~1e-4 s)
+        assert f.attrs["locked_at"] == pytest.approx(locked_at - 0.5, abs=1e-3)
+        assert '"lock_speed": 10.0' in f.attrs["keel"]
 
 
 @pytest.mark.slow
