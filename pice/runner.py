@@ -128,9 +128,9 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
             if progress is not None and now - last_report > 5.0:
                 rate = (sim.c.step - step0) / (now - t0)
                 eta = (total - sim.c.step) / rate if rate > 0 else float("inf")
-                broken = getattr(out, "broken", sim.c.broken)  # at the last series row, all ranks
+                status = getattr(out, "status", "")  # at the last series row
                 print(f"pice: t = {sim.c.time:.3f} / {job.run.duration:g} s, {rate:.0f} steps/s, "
-                      f"ETA {eta:.0f} s, broken bonds {broken}", file=progress, flush=True)
+                      f"ETA {eta:.0f} s" + (f", {status}" if status else ""), file=progress, flush=True)
                 last_report = now
         status = "finished"
     except RunInterrupted:

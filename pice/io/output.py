@@ -83,9 +83,9 @@ class RunOutput:
         self.snapshots_kept = self.comm.bcast(len(self.file.snapshots) if self.file else 0)
 
     def series(self):
-        """One /series row (collective); ``self.broken`` is then every rank's broken-bond count."""
+        """One /series row (collective); ``self.status`` is then the progress line's figures of it."""
         row = self.sim.series_row()  # collective
-        self.broken = int(row["broken_bonds"])  # all ranks' count, for the progress line
+        self.status = progress_figures(self.sim, row)
         if self.mode == "mpio":  # collective
             self.file.append_series(row)
         else:
@@ -169,3 +169,18 @@ class RunOutput:
             self.close(status)
             if self.comm.rank == 0:
                 write_xdmf_quietly(self.path)
+
+
+def progress_figures(sim, row) -> str:
+    """The progress line's figures of a series row, for the physics the scene has: the broken bonds of a
+    sheet, the rigid ice's contacts, the first body's ice load (its x component [kN]: a ship's resistance
+    is minus it) on rank 0, which holds the bodies."""
+    out = []
+    if sim.has_sheet:
+        out.append(f"broken bonds {int(row['broken_bonds'])}")
+    if "floe_contacts" in row:
+        out.append(f"block contacts {int(row['floe_contacts']):,}")
+    if "ice_force" in row and len(row["ice_force"]):
+        force = row.get("ice_force_mean", row["ice_force"])
+        out.append(f"ice load x on {sim.job.bodies[0].name} {force[0, 0] / 1e3:.4g} kN")
+    return ", ".join(out)

@@ -230,3 +230,18 @@ def test_export_and_plot_errors(tmp_path, capsys):
     assert "no such run file" in capsys.readouterr().err
     assert main(["plot", str(tmp_path / "missing.h5")]) == 5
     assert main(["export", str(tmp_path / "missing.h5")]) == 2
+
+
+def test_the_progress_line_names_what_the_scene_has():
+    """The progress line's figures come from the series row, for the physics the scene declares: a
+    sheet's broken bonds, the rigid ice's contacts, the first body's ice load along x in kN (the mean
+    over the row's steps where it is kept), and nothing of physics the scene lacks."""
+    from pice.io.output import progress_figures
+
+    body = types.SimpleNamespace(name="uikku")
+    ship = types.SimpleNamespace(has_sheet=False, job=types.SimpleNamespace(bodies=[body]))
+    row = dict(broken_bonds=0.0, floe_contacts=12345.0, ice_force=np.array([[-1.0e5, 0.0, 0.0]]),
+               ice_force_mean=np.array([[-2.5e5, 0.0, 0.0]]))
+    assert progress_figures(ship, row) == "block contacts 12,345, ice load x on uikku -250 kN"
+    sheet = types.SimpleNamespace(has_sheet=True, job=types.SimpleNamespace(bodies=[]))
+    assert progress_figures(sheet, dict(broken_bonds=7.0)) == "broken bonds 7"
