@@ -74,6 +74,11 @@ def _cmd_check(args) -> int:
     from .simulation import Simulation
 
     job = load_job(args.job)
+    if job.keel is not None and job.bodies:
+        from .io.keel_file import keel_path
+
+        if not keel_path(job, pathlib.Path(args.job).parent).exists():
+            return _check_keel_to_generate(job, args.job)
     sim = Simulation(job, base_dir=pathlib.Path(args.job).parent)
     d = sim.describe()
     sim.advance(3)  # compile and warm up
@@ -117,6 +122,28 @@ def _cmd_check(args) -> int:
     print(f"  on 2 ranks        ~{wall_per_s * job.run.duration / (2 * eff):,.0f} s for the job (at the {eff:.0%} "
           "two-rank efficiency mpi/scaling.py measures; more ranks: see README, Speed)")
     return 0
+
+
+def _check_keel_to_generate(job, source) -> int:
+    """`pice check` of a ship run whose keel file is not made yet: what its generation will settle."""
+    from .physics.keel import generation_facts
+
+    g = generation_facts(job)
+    lo, hi = g["mass_range"]
+    print(f"{source}: valid; its keel file is not generated yet (pice keel {source})")
+    print(f"  keel blocks       {g['released']:,} released, of {lo:,.0f}-{hi:,.0f} kg (the trim keeps those in the keel)")
+    print(f"  settling step     {g['dt']:.4g} s ({1.0 / g['dt']:,.0f} steps per sim. s), up to keel.settle_time = "
+          f"{g['settle_time']:g} s")
+    blocks, settled, wall = NARROW_KEEL_GENERATION
+    print(f"  cost              ~{wall / 3600 * g['released'] / blocks:.2g} h on 2 ranks here: the narrow Gong keel's "
+          f"{wall / 3600:.2g} h for {blocks:,} blocks ({settled:g} s settled; docs/ridge_keel.md), in proportion to the "
+          "blocks")
+    return 0
+
+
+# the measured generation of jobs/gong_2017_keel_w17_3.toml on this 2-core machine: blocks released,
+# simulated seconds to settle, wall time on 2 ranks [s] (docs/ridge_keel.md)
+NARROW_KEEL_GENERATION = (10_750, 48.5, 8400.0)
 
 
 TWO_RANK_EFFICIENCY = 0.8  # mpi/scaling.py on this project's 2-core machine (README, Speed)

@@ -105,6 +105,16 @@ def keel_step(keel, floes: Floes) -> float:
     return min(0.5 * stable, accurate)
 
 
+def generation_facts(job) -> dict:
+    """What `pice check` says of a keel not yet generated: the blocks released, their mass range [kg],
+    the settling's time step [s] and the limit of the settling's time [s]."""
+    keel = job.keel
+    rects, x, q = release_blocks(keel)
+    floes = blocks_as_floes(keel, rects, x, q, settling_law(keel), keel_water(job))
+    return dict(released=len(rects), mass_range=(float(floes.mass.min()), float(floes.mass.max())),
+                dt=keel_step(keel, floes), settle_time=keel.settle_time)
+
+
 def settle_steps(system: FloeSystem, n: int, t: float, dt: float) -> float:
     """``n`` velocity-Verlet steps of dt [s] of the settling blocks (no bodies), from time t; returns
     the time reached [s]."""

@@ -92,6 +92,17 @@ def test_a_keel_file_from_another_keel_is_refused(micro):
         read_keel(folder / "none.keel.h5", job.keel, job.source)
 
 
+def test_check_of_a_ship_run_before_its_keel_says_what_the_generation_settles(tmp_path, capsys):
+    """`pice check` of a ship run whose keel file is not made yet is valid and says how many blocks
+    the generation releases, its step and its rough cost, and the command that makes it."""
+    job = tmp_path / "micro.toml"
+    job.write_text(KEEL.format(duration=2.0, seed=1) + SHIP)
+    assert main(["check", str(job)]) == 0
+    out = capsys.readouterr().out
+    assert "its keel file is not generated yet (pice keel" in out
+    assert "22 released" in out and "settling step" in out and "h on 2 ranks" in out
+
+
 def test_a_ship_run_starts_from_the_keel_file_and_meets_its_blocks(micro):
     """A box bow driven at 1 m/s into the micro keel: the run reads the keel file (the same blocks),
     the blocks push back (R = -f_x > 0 while they touch) and the cover holds them above."""
