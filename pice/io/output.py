@@ -179,7 +179,7 @@ def progress_figures(sim, row) -> str:
     if sim.has_sheet:
         out.append(f"broken bonds {int(row['broken_bonds'])}")
     if "floe_contacts" in row:
-        out.append(f"block contacts {int(row['floe_contacts']):,}")
+        out.append(f"{'block' if sim.job.keel is not None else 'floe'} contacts {int(row['floe_contacts']):,}")
     if "ice_force" in row and len(row["ice_force"]):
         force = row.get("ice_force_mean", row["ice_force"])
         out.append(f"ice load x on {sim.job.bodies[0].name} {force[0, 0] / 1e3:.4g} kN")

@@ -239,9 +239,10 @@ def test_the_progress_line_names_what_the_scene_has():
     from pice.io.output import progress_figures
 
     body = types.SimpleNamespace(name="uikku")
-    ship = types.SimpleNamespace(has_sheet=False, job=types.SimpleNamespace(bodies=[body]))
+    ship = types.SimpleNamespace(has_sheet=False, job=types.SimpleNamespace(bodies=[body], keel=object()))
     row = dict(broken_bonds=0.0, floe_contacts=12345.0, ice_force=np.array([[-1.0e5, 0.0, 0.0]]),
                ice_force_mean=np.array([[-2.5e5, 0.0, 0.0]]))
     assert progress_figures(ship, row) == "block contacts 12,345, ice load x on uikku -250 kN"
-    sheet = types.SimpleNamespace(has_sheet=True, job=types.SimpleNamespace(bodies=[]))
+    sheet = types.SimpleNamespace(has_sheet=True, job=types.SimpleNamespace(bodies=[], keel=None))
     assert progress_figures(sheet, dict(broken_bonds=7.0)) == "broken bonds 7"
+    assert progress_figures(sheet, dict(broken_bonds=7.0, floe_contacts=3.0)) == "broken bonds 7, floe contacts 3"
