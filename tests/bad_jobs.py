@@ -204,6 +204,10 @@ CASES = [
          "lock_speed = 0.02\n",
          "keel.lock_speed = 0.02: it ends the settling friction, and settle_friction is not given",
          "give settle_friction (e.g. 0.0) or drop lock_speed"),
+    case("keel_half_model_off_the_centreline", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\ny0 = 5.0\n"
+         + SHIP.replace("stem_angle = 29.7}", "stem_angle = 29.7, half = true}"),
+         "keel.y0 = 5.0: a half ship's model (hull.half = true) has its symmetry plane at the centreline y = 0",
+         "give y0 = 0"),
     case("keel_lock_below_rest", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n"
          "settle_friction = 0.0\nlock_speed = 0.001\n",
          "keel.lock_speed = 0.001: the friction would return only once the blocks are at rest",

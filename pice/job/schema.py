@@ -280,6 +280,9 @@ class Job(Section):
             if self.waves is not None:
                 bad(("waves", "spectrum"), self.waves.spectrum, "a [keel] lies under its cover in still water: drop "
                     "[waves]")
+            if self.keel.y0 != 0.0 and any(b.hull.type == "ship" and b.hull.half for b in self.bodies):
+                bad(("keel", "y0"), self.keel.y0, "a half ship's model (hull.half = true) has its symmetry plane at "
+                    "the centreline y = 0, where the keel's wall at y0 stands: give y0 = 0")
         if run.dt != "auto" and run.dt >= run.duration:
             bad(("run", "dt"), run.dt, f"must be < run.duration = {run.duration} s")
         if self.crushing is not None:

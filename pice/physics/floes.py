@@ -178,11 +178,13 @@ class Floes:
                                 "w": np.zeros(3), "mu": self.law.mu if friction is None else float(friction)})
         self.structure_load = np.zeros((len(self.structures), 6))
 
-    def add_wall(self, normal, offset: float) -> None:
+    def add_wall(self, normal, offset: float, friction: float | None = None) -> None:
         """A fixed wall filling the half-space normal . x >= offset [m] (normal: a unit vector into the
-        wall); its load's moment is about the origin."""
+        wall), with the contact law's friction (whichever law is current) unless ``friction`` is given
+        (0: a symmetry plane); its load's moment is about the origin."""
         n = np.asarray(normal, float)
-        self.structures.append({"plane": (n / np.linalg.norm(n), float(offset)), "x": np.zeros(3)})
+        self.structures.append({"plane": (n / np.linalg.norm(n), float(offset)), "x": np.zeros(3),
+                                "mu": None if friction is None else float(friction)})
         self.structure_load = np.zeros((len(self.structures), 6))
 
     def move_structure(self, k: int, *, x, q, v, w) -> None:
@@ -273,17 +275,18 @@ class Floes:
     def structure_records(self, k, lo, hi, pts, counts, omega, dt, stride=1):
         """(records, count, contacts in plastic flow) of floes range(lo, hi, stride) against structure k."""
         st, law = self.structures[k], self.law
+        mu = law.mu if st["mu"] is None else st["mu"]  # a wall without its own: the current law's
         rec = np.empty((max(len(range(lo, hi, stride)), 1), STRUCTURE_RECORD))
         if st.get("plane") is not None:
             normal, offset = st["plane"]
             nrec, nplastic = plane_contacts(lo, hi, stride, self.x, self.v, omega, self.mass, self.bound, pts, counts,
-                                            normal, offset, law.kn, law.cn, law.zeta, law.kt, law.mu, law.pressure, dt,
+                                            normal, offset, law.kn, law.cn, law.zeta, law.kt, mu, law.pressure, dt,
                                             self.step_count, -1 - k, self.cgid, self.stamp, self.hist, rec)
         else:
             s_pts = world_polyhedra(st["local"][None], st["counts"][None], st["x"][None], st["q"][None])[0]
             nrec, nplastic = structure_contacts(lo, hi, stride, self.x, self.v, omega, self.mass, self.bound, pts,
                                                 counts, s_pts, st["counts"], st["x"], st["bound"], st["v"], st["w"],
-                                                law.kn, law.cn, law.zeta, law.kt, st["mu"], law.pressure, dt,
+                                                law.kn, law.cn, law.zeta, law.kt, mu, law.pressure, dt,
                                                 self.step_count, -1 - k, self.cgid, self.stamp, self.hist, rec)
         _refuse_overflow(nrec, rec, "floe-structure")
         return rec, nrec, nplastic

@@ -229,3 +229,33 @@ def test_a_floe_wholly_under_water_floats_on_its_whole_volume():
     vol, centre, *_ = part_inside(pts[0], counts[0], 0.0, 0.0, 1.0, 10.0, np.empty((2, pts.shape[2] + 2, 3)))
     assert abs(vol - volume) <= 1e-12 * volume
     assert np.abs(centre - floes.x[0]).max() <= 1e-12 * 4.0
+
+
+def _glancing_block(friction):
+    """A 1 m x 0.3 m block with no water, moving at 1 m/s along a wall y <= 0 and 0.2 m/s into it,
+    after 2 s (the bounce takes ~15 ms)."""
+    floes = Floes([_square(0.0, 0.52, side=1.0)], [0.3], density=RHO_I, base=[0.0], velocity=(1.0, -0.2, 0.0),
+                  law=FloeLaw(kn=1e7, cn=0.0, kt=0.6e7, mu=0.3))
+    floes.add_wall((0.0, -1.0, 0.0), 0.0, friction)
+    system = FloeSystem(floes, SerialComm(), [])
+    dt = 1e-4
+    system.compute_forces(np.zeros((0, 13)), 0.0, dt)
+    for k in range(20000):
+        _step(system, k, dt)
+    return floes
+
+
+def test_a_symmetry_wall_is_frictionless_and_a_basin_wall_has_the_contact_friction():
+    """A half model's symmetry plane carries no shear (the mirrored ice moves with the ice there), so a
+    block glancing off a wall given friction 0 (physics/keel.keel_walls, symmetry) keeps its speed
+    along the wall to round-off (the normal force acts through the overlap's centroid, on the
+    block's face centre: no torque turns the block). With the contact's friction 0.3 (a basin wall)
+    the block slides along the wall throughout the bounce, so Coulomb's law holds for the impulses:
+    the loss of speed along the wall is 0.3 times the change of speed across it, within 1 % (the
+    tangential spring's first steps, before it reaches the friction limit; measured 0.02 %). The
+    friction also spins the block, whose corner then throws it off faster than it came."""
+    free, rough = _glancing_block(0.0), _glancing_block(None)
+    assert free.v[0, 1] > 0.1 and rough.v[0, 1] > 0.1  # bounced off
+    assert abs(free.v[0, 0] - 1.0) < 1e-9, free.v[0]
+    along, across = 1.0 - rough.v[0, 0], rough.v[0, 1] + 0.2
+    assert abs(along - 0.3 * across) < 0.01 * 0.3 * across, rough.v[0]

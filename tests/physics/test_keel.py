@@ -92,6 +92,26 @@ def test_a_keel_file_from_another_keel_is_refused(micro):
         read_keel(folder / "none.keel.h5", job.keel, job.source)
 
 
+def test_a_half_models_symmetry_wall_is_frictionless():
+    """In the half models of Table 2 (a half ship hull) the keel's wall at y0 = 0 is the symmetry plane
+    and has no friction (test_floe_system checks a frictionless wall's physics); the full model's
+    walls there and the cover keep the contact's friction."""
+    import pathlib
+
+    from pice.physics.floes import Floes
+    from pice.physics.keel import half_model, keel_walls
+
+    jobs = pathlib.Path(__file__).resolve().parents[2] / "jobs"
+    half, full = (load_job(jobs / f"gong_2017_keel_w17_3{s}.toml") for s in ("", "_full"))
+    assert half_model(half) and not half_model(full)
+    for job in (half, full):
+        floes = Floes([np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.6], [0.0, 0.6]])], [0.3])
+        keel_walls(floes, job.keel, symmetry=half_model(job))
+        cover, near, far = (s["mu"] for s in floes.structures)
+        assert cover is None and far is None  # the contact law's friction
+        assert near == (0.0 if job is half else None)
+
+
 def test_check_of_a_ship_run_before_its_keel_says_what_the_generation_settles(tmp_path, capsys):
     """`pice check` of a ship run whose keel file is not made yet is valid and says how many blocks
     the generation releases, its step and its rough cost, and the command that makes it."""
