@@ -134,16 +134,9 @@ def _check_keel_to_generate(job, source) -> int:
     print(f"  keel blocks       {g['released']:,} released, of {lo:,.0f}-{hi:,.0f} kg (the trim keeps those in the keel)")
     print(f"  settling step     {g['dt']:.4g} s ({1.0 / g['dt']:,.0f} steps per sim. s), up to keel.settle_time = "
           f"{g['settle_time']:g} s")
-    blocks, settled, wall = NARROW_KEEL_GENERATION
-    print(f"  cost              ~{wall / 3600 * g['released'] / blocks:.2g} h on 2 ranks here: the narrow Gong keel's "
-          f"{wall / 3600:.2g} h for {blocks:,} blocks ({settled:g} s settled; docs/ridge_keel.md), in proportion to the "
-          "blocks")
+    print(f"  cost              ~{g['hours']:.2g} h on 2 ranks here, in proportion to the blocks from the narrow Gong "
+          "keel's measured generation (docs/ridge_keel.md)")
     return 0
-
-
-# the measured generation of jobs/gong_2017_keel_w17_3.toml on this 2-core machine: blocks released,
-# simulated seconds to settle, wall time on 2 ranks [s] (docs/ridge_keel.md)
-NARROW_KEEL_GENERATION = (10_750, 48.5, 8400.0)
 
 
 TWO_RANK_EFFICIENCY = 0.8  # mpi/scaling.py on this project's 2-core machine (README, Speed)

@@ -114,14 +114,21 @@ def keel_step(keel, floes: Floes) -> float:
     return min(0.5 * stable, accurate)
 
 
+# the measured generation of jobs/gong_2017_keel_w17_3.toml on the project's 2-core machine: blocks
+# released, wall time on 2 ranks [s] (docs/ridge_keel.md)
+NARROW_KEEL_GENERATION = (10_750, 8400.0)
+
+
 def generation_facts(job) -> dict:
     """What `pice check` says of a keel not yet generated: the blocks released, their mass range [kg],
-    the settling's time step [s] and the limit of the settling's time [s]."""
+    the settling's time step [s], the limit of the settling's time [s], and a rough wall time on 2
+    ranks [h], in proportion to the blocks from NARROW_KEEL_GENERATION."""
     keel = job.keel
     rects, x, q = release_blocks(keel)
     floes = blocks_as_floes(keel, rects, x, q, settling_law(keel), keel_water(job))
+    blocks, wall = NARROW_KEEL_GENERATION
     return dict(released=len(rects), mass_range=(float(floes.mass.min()), float(floes.mass.max())),
-                dt=keel_step(keel, floes), settle_time=keel.settle_time)
+                dt=keel_step(keel, floes), settle_time=keel.settle_time, hours=wall / 3600.0 * len(rects) / blocks)
 
 
 def settle_steps(system: FloeSystem, n: int, t: float, dt: float) -> float:
