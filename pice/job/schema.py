@@ -243,6 +243,12 @@ class Job(Section):
     source: str = Field(default="", exclude=True)  # the job file's path, as error lines name it
     text: str = Field(default="", exclude=True)    # the job file's text, as the run file keeps it
 
+    @property
+    def half_model(self) -> bool:
+        """A half model: a body's hull is a ship's y >= 0 half, and a keel's wall at y0 = 0 is the
+        symmetry plane through its centreline (frictionless: physics/keel.keel_walls)."""
+        return any(b.hull.type == "ship" and b.hull.half for b in self.bodies)
+
     @model_validator(mode="after")
     def _consistent(self):
         """Rules between keys; every broken rule is reported (one line each)."""
@@ -280,7 +286,7 @@ class Job(Section):
             if self.waves is not None:
                 bad(("waves", "spectrum"), self.waves.spectrum, "a [keel] lies under its cover in still water: drop "
                     "[waves]")
-            if self.keel.y0 != 0.0 and any(b.hull.type == "ship" and b.hull.half for b in self.bodies):
+            if self.keel.y0 != 0.0 and self.half_model:
                 bad(("keel", "y0"), self.keel.y0, "a half ship's model (hull.half = true) has its symmetry plane at "
                     "the centreline y = 0, where the keel's wall at y0 stands: give y0 = 0")
         if run.dt != "auto" and run.dt >= run.duration:

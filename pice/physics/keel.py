@@ -86,12 +86,6 @@ def blocks_as_floes(keel, rects, x, q, law, water) -> Floes:
     return floes
 
 
-def half_model(job) -> bool:
-    """True when the job is a half model: a body's hull is a ship's y >= 0 half, and the keel's wall at
-    y0 = 0 is the symmetry plane through the ship's centreline."""
-    return any(b.hull.type == "ship" and b.hull.half for b in job.bodies)
-
-
 def keel_walls(floes: Floes, keel, *, generation: bool = False, symmetry: bool = False) -> None:
     """The cover and the basin's end walls as half-spaces (module docstring); for the generation also
     walls at the keel's top corners, x = x -+ w / 2, which hold the pile while it settles (without
@@ -154,7 +148,7 @@ def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
     keel = job.keel
     rects, x, q = release_blocks(keel)
     floes = blocks_as_floes(keel, rects, x, q, settling_law(keel), keel_water(job))
-    keel_walls(floes, keel, generation=True, symmetry=half_model(job))
+    keel_walls(floes, keel, generation=True, symmetry=job.half_model)
     system = FloeSystem(floes, comm, [])
     dt = keel_step(keel, floes)
     every = max(1, int(round(SETTLE_CHECK / dt)))
@@ -213,7 +207,7 @@ def keel_from_job(job, hulls, poses, *, comm, base_dir=None) -> FloeSystem:
                  keel.contact.model_dump(mode="json"))
     floes = blocks_as_floes(keel, data["rects"], data["x"], data["q"], keel_law(keel), keel_water(job))
     pieces = add_body_structures(floes, job, hulls, poses)
-    keel_walls(floes, keel, symmetry=half_model(job))
+    keel_walls(floes, keel, symmetry=job.half_model)
     log.info("keel: %d blocks from %s (porosity %.3f, its core %.3f)", len(data["x"]), path, data["porosity"],
              data["core_porosity"])
     return FloeSystem(floes, comm, pieces)

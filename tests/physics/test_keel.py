@@ -99,14 +99,14 @@ def test_a_half_models_symmetry_wall_is_frictionless():
     import pathlib
 
     from pice.physics.floes import Floes
-    from pice.physics.keel import half_model, keel_walls
+    from pice.physics.keel import keel_walls
 
     jobs = pathlib.Path(__file__).resolve().parents[2] / "jobs"
     half, full = (load_job(jobs / f"gong_2017_keel_w17_3{s}.toml") for s in ("", "_full"))
-    assert half_model(half) and not half_model(full)
+    assert half.half_model and not full.half_model
     for job in (half, full):
         floes = Floes([np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.6], [0.0, 0.6]])], [0.3])
-        keel_walls(floes, job.keel, symmetry=half_model(job))
+        keel_walls(floes, job.keel, symmetry=job.half_model)
         cover, near, far = (s["mu"] for s in floes.structures)
         assert cover is None and far is None  # the contact law's friction
         assert near == (0.0 if job is half else None)
