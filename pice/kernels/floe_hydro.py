@@ -18,13 +18,19 @@ Per floe of mass m, centre x, velocity v, angular velocity w, water-plane area A
 
 - gravity -m g at x; buoyancy rho_w g V up at the centre of buoyancy, where V is the part of the
   polyhedron below the water level (kernels/polyhedra.clip);
-- linear damping of heave, roll and pitch at ``damping_ratio`` of critical for the hydrostatic
-  stiffnesses, rho_w g A_wp in heave and rho_w g A_wp r^2 in roll and pitch with r^2 = I / m
-  (standing for the radiation damping the seed takes from WAMIT; an assumption, like the level
-  ice's heave damping ratio);
-- skin drag of the current on the bottom, rho_w C_w A_wp |u| u, and form drag on the submerged
-  side, 1/2 rho_w C_d draft b |u| u, b the floe's width across u, with u the current relative to
-  the floe's horizontal velocity (seed 003 Eq. 12 for the form drag; the skin drag as the level ice).
+- for a floe in the surface, linear damping of heave, roll and pitch at ``damping_ratio`` of critical
+  for the hydrostatic stiffnesses, rho_w g A_wp in heave and rho_w g A_wp r^2 in roll and pitch with
+  r^2 = I / m (standing for the radiation damping the seed takes from WAMIT; an assumption, like the
+  level ice's heave damping ratio);
+- skin drag of the current on the bottom, rho_w C_w A_wp |u| u, and form drag on the wetted side,
+  1/2 rho_w C_d d b |u| u, b the floe's width across u, with u the current relative to the floe's
+  horizontal velocity (seed 003 Eq. 12 for the form drag; the skin drag as the level ice). d is the
+  side's wetted height: the draft, level - z_min, for a floe in the surface; its own height z_max -
+  z_min for a floe wholly under it (a keel's block: the water above it does not widen its wake);
+- a floe wholly under the surface has no water plane, so no hydrostatic stiffness and none of the
+  damping above; it moves through the water vertically against the form drag on its faces,
+  1/2 rho_w C_d A_wp |v_z| v_z (A_wp its plan area; in still water: a wave's vertical particle
+  velocity is not in ``wave``, and keels have no waves).
 """
 
 import math
@@ -86,7 +92,9 @@ def floe_water(lo, hi, stride, x, v, omega, rot, mass, inertia, area, volume, pt
                 wide_lo, wide_hi = min(wide_lo, across), max(wide_hi, across)
                 zmin, zmax = min(zmin, pts[i, f, j, 2]), max(zmax, pts[i, f, j, 2])
         force[i, 2] -= mass[i] * g
-        if zmax <= level + eta:
+        submerged = zmax <= level + eta
+        top = zmax if submerged else level  # the wetted side's top edge (module docstring)
+        if submerged:
             vol, cb0, cb1 = volume[i], x[i, 0], x[i, 1]
         else:
             vol, cob, _, wide_lo, wide_hi, zmin = part_inside(pts[i], counts[i], 0.0, 0.0, 1.0, level + eta, buf,
@@ -99,16 +107,18 @@ def floe_water(lo, hi, stride, x, v, omega, rot, mass, inertia, area, volume, pt
         force[i, 2] += fb
         torque[i, 0] += (cb1 - x[i, 1]) * fb
         torque[i, 1] -= (cb0 - x[i, 0]) * fb
-        # heave, roll and pitch damping
-        k_heave = rho_w * g * area[i]
-        force[i, 2] -= damping_ratio * 2.0 * math.sqrt(k_heave * mass[i]) * v[i, 2]
-        R = rot[i]
-        for a in range(2):  # about the principal axes: roll and pitch are the first two (scalars: no BLAS)
-            wb = R[0, a] * omega[i, 0] + R[1, a] * omega[i, 1] + R[2, a] * omega[i, 2]
-            k_tilt = k_heave * inertia[i, a] / mass[i]
-            tb = -damping_ratio * 2.0 * math.sqrt(k_tilt * inertia[i, a]) * wb
-            for e in range(3):
-                torque[i, e] += R[e, a] * tb
+        if submerged:  # no water plane, so no hydrostatic stiffness to damp: form drag across the faces
+            force[i, 2] -= 0.5 * rho_w * form * area[i] * abs(v[i, 2]) * v[i, 2]
+        else:  # heave, roll and pitch damping of a floe in the surface
+            k_heave = rho_w * g * area[i]
+            force[i, 2] -= damping_ratio * 2.0 * math.sqrt(k_heave * mass[i]) * v[i, 2]
+            R = rot[i]
+            for a in range(2):  # about the principal axes: roll and pitch are the first two (scalars: no BLAS)
+                wb = R[0, a] * omega[i, 0] + R[1, a] * omega[i, 1] + R[2, a] * omega[i, 2]
+                k_tilt = k_heave * inertia[i, a] / mass[i]
+                tb = -damping_ratio * 2.0 * math.sqrt(k_tilt * inertia[i, a]) * wb
+                for e in range(3):
+                    torque[i, e] += R[e, a] * tb
         if waves:
             # Froude-Krylov rho V a and the diffraction term A a (seed 003 Eq. 11, a small body)
             force[i, 0] += (rho_w * vol + added[i, 0]) * aw0
@@ -117,7 +127,7 @@ def floe_water(lo, hi, stride, x, v, omega, rot, mass, inertia, area, volume, pt
         # drag of the current (and the waves' particle velocity): skin on the bottom, form on the side
         if speed == 0.0:
             continue
-        drag = rho_w * (skin * area[i] + 0.5 * form * (level - zmin) * (wide_hi - wide_lo)) * speed
+        drag = rho_w * (skin * area[i] + 0.5 * form * (top - zmin) * (wide_hi - wide_lo)) * speed
         force[i, 0] += drag * u0
         force[i, 1] += drag * u1
     return total

@@ -231,6 +231,36 @@ def test_a_floe_wholly_under_water_floats_on_its_whole_volume():
     assert np.abs(centre - floes.x[0]).max() <= 1e-12 * 4.0
 
 
+def test_a_block_under_water_drags_on_its_own_faces_not_on_the_water_above_it():
+    """A keel's block wholly under the surface meets the water on its faces only: form drag
+    1/2 rho_w C_d h b |u| u across its height h = 0.3 m (not the depth of its bottom, which would
+    count the water column above it), skin drag rho_w C_w A |u| u, and vertically
+    1/2 rho_w C_d A |w| w on its plan area A; it has no water plane, so no heave, roll or pitch
+    damping (kernels/floe_hydro.py). References: the form drag's definition (seed 003 Eq. 12 on the
+    projected area) and Archimedes; to 1e-12 (round-off of sums over the block's faces). The same
+    block 1 m and 4 m deep feels the same loads."""
+    rect = np.array([[-0.5, -0.31], [0.5, -0.31], [0.5, 0.31], [-0.5, 0.31]])
+    water = FloeWater(density=1010.0, level=0.0, gravity=9.81, current=(0.0, 0.0), sea=None)
+    u, w = 0.8, -0.5  # [m/s] ploughed ahead and pushed down
+    loads = []
+    for depth in (1.0, 4.0):
+        floes = Floes([rect], np.array([0.3]), density=920.0, base=np.array([-depth]), law=FloeLaw(),
+                      water=water, velocity=(u, 0.0, w))
+        floes.L[0] = [3.0, -2.0, 1.0]  # turning: no roll or pitch damping may act on it
+        pts, counts = floes.world()
+        floes.force[:], floes.torque[:] = 0.0, 0.0
+        floes.water_loads(0, 1, pts, counts, floes.omega, 1e-3)
+        loads.append((floes.force[0].copy(), floes.torque[0].copy(), floes.mass[0]))
+    area = 1.0 * 0.62
+    for force, torque, mass in loads:
+        drag_x = 1010.0 * (water.skin * area + 0.5 * water.form * 0.3 * 0.62) * u * u
+        assert abs(force[0] + drag_x) <= 1e-12 * drag_x, (force[0], drag_x)
+        assert force[1] == 0.0
+        fz = (1010.0 * area * 0.3 - mass) * 9.81 - 0.5 * 1010.0 * water.form * area * abs(w) * w
+        assert abs(force[2] - fz) <= 1e-12 * abs(fz), (force[2], fz)
+        assert np.abs(torque).max() <= 1e-12 * abs(fz)
+
+
 def _glancing_block(friction):
     """A 1 m x 0.3 m block with no water, moving at 1 m/s along a wall y <= 0 and 0.2 m/s into it,
     after 2 s (the bounce takes ~15 ms)."""
