@@ -89,6 +89,7 @@ def test_bench_starts_the_full_scene_from_a_checkpoint_of_its_run(tmp_path):
     """``pice bench --restart CHECKPOINT``: the window starts where the run's checkpoint left it (a
     later phase of the scene), recorded in the settings; a missing checkpoint is refused first."""
     from pice.errors import JobError
+    from pice.io.checkpoint import CheckpointError
     from pice.job import load_job
     from pice.runner import run_job
 
@@ -104,6 +105,13 @@ def test_bench_starts_the_full_scene_from_a_checkpoint_of_its_run(tmp_path):
     assert "restarted from" in "\n".join(report_lines(result))
     with pytest.raises(JobError, match="no such checkpoint"):
         run_bench(scene="full", steps=4, warmup=2, job=job_path, restart=tmp_path / "none.ckpt.h5")
+    # a checkpoint of another job (here the same barge in denser water) is refused by the restart's
+    # physics check (io/restore.py), naming the key, before any step is timed
+    other = tmp_path / "other.toml"
+    other.write_text(job_path.read_text().replace("[water]\ndensity = 1025.0", "[water]\ndensity = 1030.0", 1))
+    assert load_job(other).water.density == 1030.0
+    with pytest.raises(CheckpointError, match="physics differs.*water.density"):
+        run_bench(scene="full", steps=4, warmup=2, job=other, restart=ckpt)
 
 
 def test_the_plain_step_reads_no_clock_and_the_timed_step_gives_its_numbers_bit_for_bit(tick_clock):
