@@ -53,6 +53,7 @@ class FloeSystem:
         self.contacts = 0            # floe-floe contacts in the last step
         self.structure_contacts = 0  # floe-structure and floe-wall contacts
         self.plastic = 0             # contacts in plastic flow (crushing)
+        self.water = np.zeros((n, 3))  # the water's force and gravity on each floe at the last step [N]
 
     @property
     def n(self) -> int:
@@ -85,11 +86,12 @@ class FloeSystem:
         f.force[:] = 0.0
         f.torque[:] = 0.0
         f.water_loads(lo, hi, pts, counts, omega, dt, stride)
+        water = f.force[own].ravel()  # the water's loads and gravity alone (a copy: fancy indexing)
         structure = [f.structure_records(k, lo, hi, pts, counts, omega, dt, stride) for k in range(len(f.structures))]
         pairs, npair, nplastic, _ = f.pair_records(lo, hi, pts, counts, omega, dt, stride)
         nplastic += sum(r[2] for r in structure)
         head = [len(own), npair, nplastic] + [r[1] for r in structure]
-        message = np.concatenate([np.asarray(head, float), f.force[own].ravel(), f.torque[own].ravel()]
+        message = np.concatenate([np.asarray(head, float), f.force[own].ravel(), f.torque[own].ravel(), water]
                                  + [r[0][:r[1]].ravel() for r in structure] + [pairs[:npair].ravel()])
         everything, counts_per_rank = self.comm.allgather_doubles(message)
         self._apply(everything, counts_per_rank)
@@ -110,7 +112,8 @@ class FloeSystem:
             rows = self.dealt[row:row + own]
             f.force[rows] = b[at:at + 3 * own].reshape(own, 3)
             f.torque[rows] = b[at + 3 * own:at + 6 * own].reshape(own, 3)
-            at += 6 * own
+            self.water[rows] = b[at + 6 * own:at + 9 * own].reshape(own, 3)
+            at += 9 * own
             recs = []
             for k in range(ns):
                 recs.append(b[at:at + STRUCTURE_RECORD * nstruct[k]].reshape(-1, STRUCTURE_RECORD))
@@ -146,6 +149,7 @@ class FloeSystem:
             out[name][self.dealt] = rows.reshape(a.shape).astype(a.dtype)
         out["step_count"] = np.array(f.step_count)
         out["body_loads"] = self.body_loads.copy()
+        out["water"] = self.water.copy()
         if f.wave_ends is not None:  # the sea at the floes at the current interval's ends (Floes.sea_at_floes)
             k, ends = f.wave_ends
             rows = [self.comm.allgather_doubles(ends[e, self.owned].ravel())[0] for e in range(2)]
@@ -165,6 +169,7 @@ class FloeSystem:
             getattr(f, name)[...] = state[name]
         f.step_count = int(state["step_count"])
         self.body_loads[...] = state["body_loads"]
+        self.water[...] = state.get("water", 0.0)  # checkpoints before the column: zero until the next step
         f.wave_ends = (int(state["wave_interval"]), np.array(state["wave_ends"])) if "wave_interval" in state else None
 
     def snapshot_arrays(self, first: bool) -> dict:
@@ -217,7 +222,8 @@ class FloeSystem:
         return {"floe_contacts": float(self.contacts), "floe_structure_contacts": float(self.structure_contacts),
                 "floe_crushing_contacts": float(self.plastic), "floe_kinetic_energy": self.kinetic_energy(),
                 "floe_mean_velocity": f.v.mean(axis=0) if self.n else np.zeros(3),
-                "floe_wall_force": self.wall_loads()[:, :3]}
+                "floe_wall_force": self.wall_loads()[:, :3],
+                "floe_water_force": self.water.sum(axis=0)}
 
 
 def _by_floe(parts: list[np.ndarray], floe) -> np.ndarray:

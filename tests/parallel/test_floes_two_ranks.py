@@ -18,7 +18,8 @@ import pytest
 from launch import pice_run, run_cmd
 from scenes import floe_job
 
-KEYS = ("floe_contacts", "floe_structure_contacts", "floe_kinetic_energy", "ice_force", "floe_wall_force")
+KEYS = ("floe_contacts", "floe_structure_contacts", "floe_kinetic_energy", "ice_force", "floe_wall_force",
+        "floe_water_force")
 
 
 def _series(path):

@@ -97,7 +97,8 @@ def test_the_record_path_matches_the_one_rank_step_bit_for_bit():
 
 def test_the_structures_take_what_the_floes_lose():
     """Pair forces cancel: the floes' total force less the water's is minus the loads on the cone and
-    the walls, to round-off of the largest contact force."""
+    the walls, to round-off of the largest contact force; the water's (with gravity) is the series'
+    floe_water_force, bit for bit on one rank."""
     make = _field_with_cone()
     floes = make()
     system = FloeSystem(floes, SerialComm(), [[0]])
@@ -119,6 +120,8 @@ def test_the_structures_take_what_the_floes_lose():
             floes.water_loads(0, system.n, pts, counts, floes.omega, dt)
             water = floes.force.sum(axis=0)
             floes.force[:], floes.torque[:] = saved
+            # the series' floe_water_force is that sum: the rubble's force balance in the run file
+            assert np.array_equal(system.series_entries()["floe_water_force"], water)
             structures = system.body_loads[0, :3] + system.wall_loads()[:, :3].sum(axis=0)
             scale = np.abs(structures).max()
             assert scale > 1e4
