@@ -10,7 +10,8 @@
   spectrum and the peak load of each ice interaction event, as seed 003's Figs. 10-12
   (postproc/mooring.py);
 * ``keel_resistance.png``: a ship run through a [keel]: R = -f_x against the penetration, its 6 m
-  running average and peak R^p, as seed 002's Fig. 5 (postproc/resistance.py);
+  running average and peak R^p, as seed 002's Fig. 5, and the water's drag on the rubble, the part of
+  R that moves it through the water (postproc/resistance.py);
 * ``energies.png``: the change of each energy since t = 0 (kJ);
 * ``broken_bonds.png``: cumulative broken bonds against time, by failure mode (from the event log).
 
@@ -225,7 +226,7 @@ def mooring_load(run, out: pathlib.Path, skip: float = 0.0, baseline=None, **_):
 def keel_resistance(run, out: pathlib.Path, **_):
     """keel_resistance.png: a ship run through a [keel]: R = -f_x against the penetration, its running
     average over 6 m and the peak R^p (seed 002, Fig. 5; postproc/resistance.py). None otherwise."""
-    from .resistance import WINDOW, peak_resistance, resistance_record, running_average
+    from .resistance import WINDOW, peak_resistance, resistance_record, running_average, water_drag_record
 
     record = resistance_record(run)
     if record is None or "[keel]" not in str(run.attrs.get("job_text", "")):
@@ -238,6 +239,10 @@ def keel_resistance(run, out: pathlib.Path, **_):
     peak, where = peak_resistance(delta, r)
     if np.isfinite(peak):
         ax.plot([where], [peak / 1e3], "o", label=f"R^p = {peak / 1e3:,.0f} kN at {where:.1f} m")
+    drag = water_drag_record(run)
+    if drag is not None:  # the part of R that moves the rubble through the water (postproc/resistance.py)
+        ax.plot(drag[0], running_average(*drag) / 1e3, "--", lw=1.2,
+                label=f"the water's drag on the rubble along -x, running average over {WINDOW:g} m")
     ax.set_xlabel("penetration delta [m]")
     ax.set_ylabel("keel resistance [kN]")
     ax.grid(alpha=0.3)

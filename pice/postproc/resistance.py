@@ -6,6 +6,11 @@ draws them (``keel_resistance.png``).
 R at a series row is the mean of the ice's force over the steps since the row before
 (``ice_force_mean``; the instantaneous ``ice_force`` in runs without it), so the record misses no
 block's impact between rows. delta is the body's x displacement since t = 0.
+
+The water's share: along x the rubble is pushed by the ship (R) and held by the water's drag, the
+cover's and the walls' friction (its buoyancy and weight are vertical). ``water_drag_record`` gives
+the drag, minus the x component of the series' ``floe_water_force`` (at the row's step, not a mean):
+the part of R spent moving the rubble through the water rather than failing it.
 """
 
 from __future__ import annotations
@@ -23,6 +28,15 @@ def resistance_record(run, body: int = 0):
     if x is None or f is None or x.ndim != 3 or x.shape[1] <= body:
         return None
     return x[:, body, 0] - x[0, body, 0], -f[:, body, 0]
+
+
+def water_drag_record(run):
+    """(delta [m], D [N]): the water's drag on all the floes against -x (the rubble held back) at each
+    row; None when the run has no ``floe_water_force`` (runs before the column) or no body."""
+    x, w = run.series("body_position"), run.series("floe_water_force")
+    if x is None or w is None or x.ndim != 3 or x.shape[1] == 0:
+        return None
+    return x[:, 0, 0] - x[0, 0, 0], -w[:, 0]
 
 
 def running_average(delta: np.ndarray, r: np.ndarray, window: float = WINDOW) -> np.ndarray:

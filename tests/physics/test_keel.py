@@ -134,6 +134,26 @@ def test_a_ship_run_starts_from_the_keel_file_and_meets_its_blocks(micro):
         s = f["series"]
         assert s["floe_structure_contacts"][:].max() > 0
         assert (-s["ice_force_mean"][:, 0, 0]).max() > 1e3  # [N]
+        # before the bow arrives (t < 0.75 s) the pile is at rest: the water's force on it (buoyancy less
+        # weight; Archimedes) is what the cover and the walls carry, to 2 % (the rows' mean; each row
+        # is one step's load, and the pile moves at under 1 cm/s). Not at t = 0: the trimmed pile's
+        # contacts with the cover still carry the buoyancy of the blocks trimmed away (twice the
+        # load), and it springs back within 0.2 s
+        t = s["time"][:]
+        rest = (t > 0.25) & (t < 0.75)
+        water = s["floe_water_force"][rest].mean(axis=0)
+        walls = s["floe_wall_force"][rest].sum(axis=1).mean(axis=0)
+        assert rest.sum() >= 4 and water[2] > 1e3
+        assert abs(walls[2] - water[2]) <= 0.02 * water[2], (walls, water)
+    from pice.io.run_reader import open_run
+    from pice.postproc.plots import plot_run
+    from pice.postproc.resistance import water_drag_record
+
+    with open_run(folder / "ship.h5") as run:  # the water's share of R, drawn beside it
+        delta, drag = water_drag_record(run)
+        assert len(delta) == len(drag) and np.isfinite(drag).all()
+    paths = plot_run(folder / "ship.h5", folder / "ship_plots")
+    assert folder / "ship_plots" / "keel_resistance.png" in paths
 
 
 def test_the_running_average_of_a_linear_record():
