@@ -34,7 +34,7 @@ from ..errors import JobError
 KEEL_FORMAT = 1
 # keys of [keel] a ship run may change against its keel's generation (the contact: seed 002 runs each
 # pile with mu_i 0.3 and 0.6; the file and the run's own step)
-RUN_KEYS = ("contact", "file", "step_fraction")
+RUN_KEYS = ("contact", "file", "step_fraction", "form_drag_coefficient")
 
 
 def keel_path(job, base_dir=None) -> pathlib.Path:

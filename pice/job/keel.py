@@ -91,6 +91,9 @@ class KeelSpec(Section):
     lock_speed: quantity("m/s") | None = None
     settle_time: quantity("s") = 120.0
     step_fraction: quantity("", le=0.2) = 0.1  # the step: this fraction of the shortest contact, m_eff / c_n
+    # C_d of each block's form drag in the water (kernels/floe_hydro.py; 1 as the floes'): each block drags
+    # alone, though the water in a packed rubble moving together moves with it (docs/ridge_keel.md)
+    form_drag_coefficient: quantity("", gt=None, ge=0.0) = 1.0
     file: str = ""  # the settled keel (default: beside the run file, <run>.keel.h5)
 
     @model_validator(mode="after")

@@ -69,10 +69,11 @@ def settling_law(keel) -> FloeLaw:
 
 
 def keel_water(job) -> FloeWater:
-    """Still water for the blocks: drag on the relative velocity (the floes' skin and form drag) and
-    no waves (a keel under a cover)."""
+    """Still water for the blocks: drag on the relative velocity (the floes' skin drag, and form drag
+    with keel.form_drag_coefficient) and no waves (a keel under a cover)."""
     w = job.water
-    return FloeWater(density=w.density, level=w.level, gravity=job.gravity, current=tuple(w.current), sea=None)
+    return FloeWater(density=w.density, level=w.level, gravity=job.gravity, current=tuple(w.current), sea=None,
+                     form=job.keel.form_drag_coefficient)
 
 
 def blocks_as_floes(keel, rects, x, q, law, water) -> Floes:

@@ -112,6 +112,12 @@ def test_the_table_2_jobs_and_a_friction_study_share_one_keel(tmp_path):
     files = {v.job.keel.file for v in variants}
     assert files == {str(keel_path(load_job(base), base.parent).resolve())}
     assert [v.job.keel.contact.friction for v in variants] == [0.3, 0.6]
+    # the blocks' form drag is the ship run's water, not the generation's result: one keel file too, and
+    # each variant's water has its C_d (a study of the drag's share of R: docs/ridge_keel.md)
+    assert "form_drag_coefficient" in RUN_KEYS
+    variants = make_variants(base, ["keel.form_drag_coefficient=0,1"], out_dir=tmp_path / "drag")
+    assert {v.job.keel.file for v in variants} == files
+    assert [keel_water(v.job).form for v in variants] == [0.0, 1.0]
 
 
 def test_the_keels_dashpot_is_a_ratio_and_sets_the_step():
