@@ -61,23 +61,36 @@ def physics_text(job) -> str:
     return json.dumps(job.model_dump(mode="json", exclude={"run", "parallel"}), sort_keys=True)
 
 
-def physics_differences(old: str, new: str, limit: int = 5) -> list[str]:
-    """Keys whose values differ between two physics_text strings, as 'key = new (checkpoint: old)'."""
-    def flat(obj, prefix=""):
-        if isinstance(obj, dict):
-            out = {}
-            for k, v in obj.items():
-                out.update(flat(v, f"{prefix}.{k}" if prefix else k))
-            return out
-        if isinstance(obj, list) and obj and all(isinstance(v, dict) for v in obj):
-            out = {}
-            for i, v in enumerate(obj):
-                out.update(flat(v, f"{prefix}[{i}]"))
-            return out
-        return {prefix: obj}
+def _flat(obj, prefix=""):
+    """{dotted key: value} of a job's JSON dump (lists of tables by index: bodies[0].mass)."""
+    if isinstance(obj, dict):
+        out = {}
+        for k, v in obj.items():
+            out.update(_flat(v, f"{prefix}.{k}" if prefix else k))
+        return out
+    if isinstance(obj, list) and obj and all(isinstance(v, dict) for v in obj):
+        out = {}
+        for i, v in enumerate(obj):
+            out.update(_flat(v, f"{prefix}[{i}]"))
+        return out
+    return {prefix: obj}
 
-    a, b = flat(json.loads(old)), flat(json.loads(new))
-    keys = sorted(k for k in set(a) | set(b) if a.get(k, "absent") != b.get(k, "absent"))
+
+def keys_at_default(job) -> set[str]:
+    """The job's physics keys (as physics_differences names them) that it leaves at their defaults."""
+    every = _flat(job.model_dump(mode="json", exclude={"run", "parallel"}))
+    given = _flat(job.model_dump(mode="json", exclude={"run", "parallel"}, exclude_defaults=True))
+    return {k for k in every if k not in given}
+
+
+def physics_differences(old: str, new: str, limit: int = 5, at_default=frozenset()) -> list[str]:
+    """Keys whose values differ between two physics_text strings, as 'key = new (checkpoint: old)'. A key
+    the checkpoint lacks is no difference when the job leaves it at its default (``at_default``,
+    keys_at_default): the checkpoint predates the key, and a key's default keeps the behaviour the
+    code had before it."""
+    a, b = _flat(json.loads(old)), _flat(json.loads(new))
+    keys = sorted(k for k in set(a) | set(b) if a.get(k, "absent") != b.get(k, "absent")
+                  and not (k not in a and k in at_default))
     return [f"{k} = {json.dumps(b.get(k, 'absent'))} (checkpoint: {json.dumps(a.get(k, 'absent'))})"
             for k in keys[:limit]]
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from .. import __version__
 from ..parallel.decomposition import Decomposition, uniform
-from .checkpoint import CheckpointError, physics_differences, physics_text
+from .checkpoint import CheckpointError, keys_at_default, physics_differences, physics_text
 
 log = logging.getLogger("pice")
 
@@ -80,7 +80,7 @@ def _refuse_mismatch(sim, a, where, gid) -> None:
             f"{where}: written with dt = {float(a['dt'])!r} s, but {sim.job.source} now gives "
             f"dt = {sim.dt!r} s; a restart must keep the time step: restore run.dt (and run.dt_safety) "
             "of the run that wrote it")
-    diff = physics_differences(a["physics"], physics_text(sim.job))
+    diff = physics_differences(a["physics"], physics_text(sim.job), at_default=keys_at_default(sim.job))
     if diff:
         raise CheckpointError(f"{where}: the job's physics differs from the run that wrote this checkpoint: "
                               f"{'; '.join(diff)}; only [run] (duration, output schedule) and [parallel] may "

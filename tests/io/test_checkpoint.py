@@ -71,6 +71,26 @@ def test_restart_refuses_another_dt_or_other_physics(tmp_path):
     assert b.c.step == 5
 
 
+def test_a_checkpoint_from_before_a_key_existed_restarts_when_the_job_leaves_it_at_its_default(tmp_path):
+    """A key added to the job after a checkpoint was written (its physics then lacked it) is no
+    difference while the job leaves it at its default, which keeps the code's behaviour from before the
+    key (the convention of every defaulted key; e.g. keel.form_drag_coefficient); set otherwise it is
+    refused, naming it. Here water.skin_drag_coefficient (default 0.0055) plays the new key."""
+    import json
+
+    a = Simulation(_tiny(), comm=SerialComm())
+    a.advance(5)
+    data = read_checkpoint(write_checkpoint(a, tmp_path / "c.h5"))
+    physics = json.loads(data["attrs"]["physics"])
+    assert physics["water"].pop("skin_drag_coefficient") == 0.0055  # as written before the key existed
+    data["attrs"]["physics"] = json.dumps(physics, sort_keys=True)
+    b = Simulation.from_checkpoint(_tiny(), data, comm=SerialComm())
+    assert b.c.step == 5
+    with pytest.raises(CheckpointError, match=r'physics differs.*water\.skin_drag_coefficient = 0\.01 '
+                                              r'\(checkpoint: "absent"\)'):
+        Simulation.from_checkpoint(_tiny(**{"water.skin_drag_coefficient": 0.01}), data, comm=SerialComm())
+
+
 def test_restart_cli_errors(tmp_path, capsys):
     job = tmp_path / "tiny.toml"
     job.write_text('[run]\nduration = 0.004\ndt = 2e-4\ncheckpoint_every = 0.002\n[ice]\nlength = 3.0\n'
