@@ -239,3 +239,72 @@ def test_turned_history_keeps_its_length_and_leaves_the_plane():
             b = np.array(_turned(*a, *n))
             assert abs(b @ n) <= 1e-12 * np.linalg.norm(a)
             assert np.linalg.norm(b) == pytest.approx(np.linalg.norm(a), rel=4e-16 * 8)
+
+
+# -- the two passes of a parallel step (simulation.py: interior bonds while the ghosts travel) -------
+
+def _patch(rng, nlocal=5):
+    """A 3 x 3 patch of elements 0.95 m apart, bonded to their neighbours within 1.4 m, perturbed by
+    2 cm; rows >= ``nlocal`` stand for ghosts (their own rows' bonds are never visited)."""
+    g = np.array([[i * 0.95, j * 0.95, 0.0] for i in range(3) for j in range(3)])
+    n = len(g)
+    x = g + rng.normal(0, 0.02, (n, 3))
+    v, w = rng.normal(0, 0.3, (n, 3)), rng.normal(0, 0.5, (n, 3))
+    radius = np.full(n, 0.475)
+    gid = rng.permutation(n).astype(np.int64) * 3 + 1  # gids in no particular order
+    bond_j = np.full((n, MAX_BONDS), -1, np.int64)
+    bond_gid, bond_mate = bond_j.copy(), bond_j.copy()
+    bond_L0, bond_hist = np.zeros((n, MAX_BONDS)), np.zeros((n, MAX_BONDS, BOND_HIST))
+    used = np.zeros(n, np.int64)
+    for i in range(n):
+        for j in range(i + 1, n):
+            if np.linalg.norm(g[i] - g[j]) < 1.4:
+                si, sj = used[i], used[j]
+                bond_j[i, si], bond_j[j, sj] = j, i
+                bond_gid[i, si], bond_gid[j, sj] = gid[j], gid[i]
+                bond_mate[i, si], bond_mate[j, sj] = sj, si
+                bond_L0[i, si] = bond_L0[j, sj] = np.linalg.norm(g[i] - g[j])
+                bond_hist[i, si] = bond_hist[j, sj] = rng.normal(0, 1e3, BOND_HIST)
+                used[i], used[j] = si + 1, sj + 1
+    return nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0, bond_hist
+
+
+@pytest.mark.parametrize("strength", [math.inf, 2.0e5])
+def test_the_two_passes_give_one_pass_to_round_off(strength):
+    """The bonds between owned elements, then the bonds to ghosts of the rows that have one
+    (``ghost_bonded_rows``), give what one pass over every bond gives: each bond is computed once
+    with the same inputs, so the histories, the broken bonds and the removals are identical, and
+    the forces on an element are the same sum in another order (round-off: 1e-12 relative).
+    Reference: the kernel's own single pass (Newton's third law is checked above). With a finite
+    strength some bonds of the perturbed patch break, and they must break in the same pass either way."""
+    from pice.kernels.bonds import GHOST_PARTNERS, OWNED_PARTNERS, bond_forces_of, ghost_bonded_rows
+
+    law = _kernel_params()._replace(normal_strength=strength, shear_strength=strength)
+    state = _patch(np.random.default_rng(11))
+    nlocal, dt = state[0], 1e-4
+    out = []
+    for split in (False, True):
+        s = [a.copy() if isinstance(a, np.ndarray) else a for a in state]
+        n = len(s[1])
+        force, torque = np.zeros((n, 3)), np.zeros((n, 3))
+        events = np.zeros((64, 3), np.int64)
+        removed = np.zeros((64, 2), np.int64)
+        if split:
+            rows = ghost_bonded_rows(nlocal, s[6])
+            assert len(rows) and (rows < nlocal).all() and all((s[6][i] >= nlocal).any() for i in rows)
+            nb1, nr1 = bond_forces_of(rows, True, OWNED_PARTNERS, *s, law, dt, force, torque, events, removed)
+            nb2, nr2 = bond_forces_of(rows, False, GHOST_PARTNERS, *s, law, dt, force, torque, events[nb1:],
+                                      removed[nr1:])
+            counts = (nb1 + nb2, nr1 + nr2)
+        else:
+            counts = bond_forces(*s, law, dt, force, torque, events, removed)
+        out.append((counts, force, torque, s[6], s[10], {tuple(e) for e in events[:counts[0]]},
+                    {tuple(r) for r in removed[:counts[1]]}))
+    (c1, f1, t1, j1, h1, e1, r1), (c2, f2, t2, j2, h2, e2, r2) = out
+    assert c1 == c2 and e1 == e2 and r1 == r2
+    assert (c1[0] > 0) == math.isfinite(strength)  # the finite strength breaks some bonds
+    np.testing.assert_array_equal(j1, j2)
+    np.testing.assert_array_equal(h1, h2)
+    scale = np.abs(f1).max()
+    np.testing.assert_allclose(f2, f1, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(t2, t1, rtol=0, atol=1e-12 * np.abs(t1).max())
