@@ -140,11 +140,6 @@ class Simulation:
             self.ice_contact_term = IceContactTerm(self.contact_law, skin=CONTACT_SKIN * 2.0 * float(p.radius.max()))
             terms = [self.bond_term, self.ice_contact_term]
         self.n_ghost_terms = len(terms)  # the first terms read ghosts; the rest act on owned elements only
-        # a term that reads ghosts may do part of its work before they arrive (``add_interior_forces``,
-        # the bonds between owned elements); its ``add_ghost_forces`` does the rest after
-        self.interior_parts = [(t, t.add_interior_forces) for t in terms if hasattr(t, "add_interior_forces")]
-        self.ghost_parts = [(t, t.add_ghost_forces if hasattr(t, "add_interior_forces") else t.add_forces)
-                            for t in terms]
         if self.walls is not None:
             terms.append(self.walls)
         water = water_from_job(job)
@@ -188,9 +183,8 @@ class Simulation:
     # -- the step ------------------------------------------------------------------------------
     def compute_forces(self) -> None:
         """Forces and torques at the current positions (half-step velocities for the rate terms):
-        while the ghost update travels, the terms on owned elements and the bonds between owned
-        elements (the bulk of the step); then the bonds to ghosts and the contacts; then the terms
-        that read the body poses (``reads_poses``: the hulls) once they are here."""
+        the terms on owned elements while the ghost update travels, then the bonds and contacts,
+        then the terms that read the body poses (``reads_poses``: the hulls) once they are here."""
         p = self.p
         p.force[:] = 0.0
         p.torque[:] = 0.0
@@ -198,11 +192,9 @@ class Simulation:
         for term in owned:  # owned elements only: the ghost update travels
             if not getattr(term, "reads_poses", False):
                 term.add_forces(p, self.c, self.dt)
-        for _, add in self.interior_parts:  # the bonds between owned elements: it is still travelling
-            add(p, self.c, self.dt)
         self.domain.finish_exchange(p)
-        for _, add in self.ghost_parts:  # bonds to ghosts, and contacts, read the ghosts
-            add(p, self.c, self.dt)
+        for term in self.terms[:self.n_ghost_terms]:  # bonds and contacts read the ghosts
+            term.add_forces(p, self.c, self.dt)
         self.finish_poses()
         for term in owned:
             if getattr(term, "reads_poses", False):
@@ -320,12 +312,9 @@ class Simulation:
             if not getattr(term, "reads_poses", False):
                 term.add_forces(p, self.c, self.dt)
                 lap(term_part(term))
-        for term, add in self.interior_parts:
-            add(p, self.c, self.dt)
-            lap(term_part(term))
         self.domain.finish_exchange(p, self.timers)  # laps "waiting"
-        for term, add in self.ghost_parts:
-            add(p, self.c, self.dt)
+        for term in self.terms[:self.n_ghost_terms]:
+            term.add_forces(p, self.c, self.dt)
             lap(term_part(term))
         self.finish_poses()
         lap("waiting")

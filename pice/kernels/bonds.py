@@ -28,7 +28,6 @@ ZHU_JI_EQ5, tau_c = mu (sigma_n + sigma_b) + sigma_s, Eq. 5 of the paper as prin
 
 import math
 
-import numpy as np
 from numba import njit
 
 from . import JIT, JIT_FMA
@@ -170,51 +169,12 @@ def _bond_core(a, b, x, v, w, radius, L0, H, i, s, law, dt):
             -own0 + cb * c0, -own1 + cb * c1, -own2 + cb * c2)
 
 
-ALL_PARTNERS = 0    # bond_forces_of: every bond of the rows visited
-OWNED_PARTNERS = 1  # only the bonds whose both ends are owned (no ghost is read)
-GHOST_PARTNERS = 2  # only the bonds to a ghost
-
-
 @njit(**JIT_FMA)
 def bond_forces(nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0, bond_hist,
                 law, dt, force, torque, events, removed):
     """Add the forces of every intact bond touching an owned particle; break failed bonds.
 
-    ``bond_forces_of`` over every owned row and every partner: its arguments and returns."""
-    return bond_forces_of(np.empty(0, np.int64), True, ALL_PARTNERS, nlocal, gid, x, v, w, radius, bond_j,
-                          bond_mate, bond_gid, bond_L0, bond_hist, law, dt, force, torque, events, removed)
-
-
-@njit(**JIT)
-def ghost_bonded_rows(nlocal, bond_j):
-    """The owned rows (int64, ascending) with a bond to a ghost (a partner index >= nlocal)."""
-    out = np.empty(nlocal, np.int64)
-    n = 0
-    for i in range(nlocal):
-        for s in range(bond_j.shape[1]):
-            if bond_j[i, s] >= nlocal:
-                out[n] = i
-                n += 1
-                break
-    return out[:n].copy()
-
-
-@njit(**JIT_FMA)
-def bond_forces_of(rows, all_rows, partners, nlocal, gid, x, v, w, radius, bond_j, bond_mate, bond_gid, bond_L0,
-                   bond_hist, law, dt, force, torque, events, removed):
-    """Add the forces of the intact bonds of the owned rows visited; break failed bonds.
-
-    The step splits the work so that the ghosts' update travels while most of it is done: first
-    every row's bonds to owned partners (``OWNED_PARTNERS``, which read no ghost), then, once the
-    ghosts are current, the bonds to ghosts (``GHOST_PARTNERS``) of the rows that have any
-    (``ghost_bonded_rows``). Each bond is computed in one of the two passes, in the canonical order,
-    so a bond breaks at the same step as in one pass; the forces on an element are summed in another
-    order (round-off).
-
     Args:
-        rows: the owned rows to visit (int64), read only when ``all_rows`` is False (then every row
-            0..nlocal-1 is visited, in order).
-        partners: ALL_PARTNERS, OWNED_PARTNERS or GHOST_PARTNERS: which bonds of those rows.
         events: (max_events, 3) int64 log of bonds broken this call: (gid_a, gid_b, mode); the
             breaks beyond its length are counted but not logged.
         removed: (max_removed, 2) int64 log of the bonds this rank removed from its rows, as local
@@ -230,16 +190,12 @@ def bond_forces_of(rows, all_rows, partners, nlocal, gid, x, v, w, radius, bond_
     max_events = events.shape[0]
     nbroken = 0
     nremoved = 0
-    nrows = nlocal if all_rows else rows.shape[0]
-    for k in range(nrows):
-        i = k if all_rows else rows[k]
+    for i in range(nlocal):
         for s in range(nslots):
             j = bond_j[i, s]
             if j < 0:
                 continue
             j_owned = j < nlocal
-            if (partners == OWNED_PARTNERS and not j_owned) or (partners == GHOST_PARTNERS and j_owned):
-                continue
             if j_owned and gid[j] < gid[i]:
                 continue  # evaluated from j's side
             i_is_a = gid[i] < gid[j]

@@ -15,8 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kernels.bonds import (GHOST_PARTNERS, MOHR_COULOMB, OWNED_PARTNERS, ZHU_JI_EQ5, bond_energy, bond_forces,
-                             bond_forces_of, ghost_bonded_rows)
+from ..kernels.bonds import MOHR_COULOMB, ZHU_JI_EQ5, bond_energy, bond_forces
 
 SHEAR_LAWS = {"mohr_coulomb": MOHR_COULOMB, "zhu_ji_2022_eq5": ZHU_JI_EQ5}
 
@@ -80,39 +79,11 @@ class BondTerm:
         self.law = law
         self._events = np.zeros((self.max_events, 3), dtype=np.int64)  # gid_a, gid_b, mode
         self._removed = np.zeros((self.max_events, 2), dtype=np.int64)  # local i, j
-        self._rows = np.zeros(0, np.int64)  # the owned rows with a bond to a ghost (add_ghost_forces)
-        self._rows_for = None  # the p.bond_j they were found in
 
     def add_forces(self, p, c, dt):
-        """Every bond of the owned elements, in one pass."""
-        self._logged(p, c, *bond_forces(p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.bond_j, p.bond_mate,
-                                        p.bond_gid, p.bond_L0, p.bond_hist, self.law, dt, p.force, p.torque,
-                                        self._events, self._removed))
-
-    def add_interior_forces(self, p, c, dt):
-        """The bonds whose both ends are owned: they read no ghost, so the step computes them while the
-        ghosts' update travels (simulation.py); ``add_ghost_forces`` then adds the rest."""
-        self._pass(p, c, dt, OWNED_PARTNERS)
-
-    def add_ghost_forces(self, p, c, dt):
-        """The bonds to a ghost, of the owned rows that have one (none on one rank)."""
-        self._pass(p, c, dt, GHOST_PARTNERS)
-
-    def _pass(self, p, c, dt, partners):
-        if partners == GHOST_PARTNERS:
-            if self._rows_for is not p.bond_j:  # a rebuild made new rows (state.place_rows, resolve)
-                self._rows = ghost_bonded_rows(p.nlocal, p.bond_j)
-                self._rows_for = p.bond_j
-            if not len(self._rows):
-                return
-        self._logged(p, c, *bond_forces_of(self._rows, partners == OWNED_PARTNERS, partners, p.nlocal, p.gid, p.x,
-                                           p.v, p.w, p.radius, p.bond_j, p.bond_mate, p.bond_gid, p.bond_L0,
-                                           p.bond_hist, self.law, dt, p.force, p.torque, self._events,
-                                           self._removed))
-
-    def _logged(self, p, c, nb, removed):
-        """Count and log the bonds a kernel call broke and removed (``c.broken``, ``c.events``, the
-        contact pair list's ``p.unbonded``)."""
+        nb, removed = bond_forces(p.nlocal, p.gid, p.x, p.v, p.w, p.radius, p.bond_j, p.bond_mate, p.bond_gid,
+                                  p.bond_L0, p.bond_hist, self.law, dt, p.force, p.torque, self._events,
+                                  self._removed)
         if removed:
             p.topology += 1  # the contact candidates change (physics/contact.py)
             if p.unbonded is not None:

@@ -85,13 +85,6 @@ def test_the_hull_term_waits_for_the_poses_after_the_bonds():
             self.term.add_forces(p, c, dt)
 
     sim.terms = [Spy(t) for t in sim.terms]
-
-    def spied(add, name):
-        return lambda p, c, dt: calls.append(name) or add(p, c, dt)
-
-    # the bonds are computed in two passes (between owned elements, then to ghosts): both are spied
-    sim.interior_parts = [(t, spied(add, t.name)) for t, add in sim.interior_parts]
-    sim.ghost_parts = [(t, spied(add, t.name)) for t, add in sim.ghost_parts]
     sim.comm = type("Recording", (), {"__getattr__": lambda _, k: getattr(comm, k),
                                       "start_bcast_array": lambda _, a: calls.append("post poses") or start(a),
                                       "finish_bcast_array": lambda _, q: calls.append("wait poses") or finish(q)})()
