@@ -13,9 +13,13 @@ step on each rank, their mean and maximum over ranks, and the mean's share of th
 
 from __future__ import annotations
 
+from collections import deque
 from time import perf_counter
 
 import numpy as np
+
+#: the steps' waits for the ghost update kept for the summary's distribution (the last ones)
+GHOST_WAITS_KEPT = 100_000
 
 #: the parts of a step, in the order they are reported, with what each holds
 PARTS = {
@@ -53,18 +57,22 @@ class StepTimers:
         self.seconds = dict.fromkeys(PARTS, 0.0)  # [s] per part since start
         self.steps = 0                            # steps taken since start
         self.mark = perf_counter()                # [s] the clock at the last lap
+        self.ghost_waits = deque(maxlen=GHOST_WAITS_KEPT)  # [s] each step's wait for the ghost update
 
     def start(self) -> None:
         """Zero the figures and start a window now."""
         self.seconds = dict.fromkeys(PARTS, 0.0)
         self.steps = 0
         self.mark = perf_counter()
+        self.ghost_waits.clear()
 
-    def lap(self, part: str) -> None:
-        """Charge the wall time since the previous lap (or ``start``) to ``part``."""
+    def lap(self, part: str) -> float:
+        """Charge the wall time since the previous lap (or ``start``) to ``part``; returns it [s]."""
         now = perf_counter()
-        self.seconds[part] += now - self.mark
+        spent = now - self.mark
+        self.seconds[part] += spent
         self.mark = now
+        return spent
 
     def total(self) -> float:
         """Wall seconds of the window so far (start to the last lap) on this rank [s]."""
@@ -75,9 +83,15 @@ class StepTimers:
 
         Returns {"ranks", "steps", "ms_per_step" (mean over ranks of the sum of the parts),
         "max_ms_per_step", "parts": {part: {"ms_per_step" (mean over ranks), "max_ms_per_step",
-        "percent" (of the mean step), "per_rank_ms_per_step": [...]}}}.
+        "percent" (of the mean step), "per_rank_ms_per_step": [...]}}, "ghost_wait_ms": per rank, the
+        median, 90th percentile and largest of its steps' waits for the ghost update (None where it
+        received none)}. A wait's median against its mean tells a message that does not travel
+        while the ranks compute (every step waits) from ranks held up now and then (a tail).
         """
+        waits = np.asarray(self.ghost_waits) * 1e3  # [ms]
+        tail = [float(np.median(waits)), float(np.percentile(waits, 90)), float(waits.max())] if len(waits) else None
         rows = comm.gather([self.seconds[k] for k in PARTS] + [float(self.steps)])
+        tails = comm.gather(tail)
         if rows is None:
             return None
         table = np.asarray(rows, dtype=float)
@@ -92,4 +106,5 @@ class StepTimers:
                            "percent": 100.0 * mean / mean_total if mean_total > 0 else 0.0,
                            "per_rank_ms_per_step": [float(v) for v in ms[:, k]]}
         return {"ranks": len(rows), "steps": int(table[0, -1]), "ms_per_step": mean_total,
-                "max_ms_per_step": float(per_rank_total.max()), "parts": parts}
+                "max_ms_per_step": float(per_rank_total.max()), "parts": parts,
+                "ghost_wait_ms": [None if t is None else dict(zip(("median", "p90", "max"), t)) for t in tails]}

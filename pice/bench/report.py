@@ -35,6 +35,10 @@ def _split_lines(split: dict | None) -> list[str]:
         if part["max_ms_per_step"] > 0.0005:  # parts the scene does not have stay at zero: not printed
             lines.append(f"    {name:<12} {part['ms_per_step']:9.3f} ms {part['percent']:6.1f} %   "
                          f"({part['max_ms_per_step']:.3f})")
+    waits = [(r, w) for r, w in enumerate(split.get("ghost_wait_ms") or []) if w]
+    if waits:
+        lines.append("  ghost update wait per step [ms] (median / 90th percentile / largest): "
+                     + ", ".join(f"rank {r} {w['median']:.3f} / {w['p90']:.3f} / {w['max']:.2f}" for r, w in waits))
     return lines
 
 

@@ -101,9 +101,12 @@ class Domain:
     def finish_exchange(self, p, timers=None) -> None:
         """Receive the ghost update that ``exchange`` posted (a no-op when none is pending); the time
         is charged "waiting"."""
+        pending = self.halo.pending
         self.halo.finish_update(p)
         if timers is not None:
-            timers.lap("waiting")
+            spent = timers.lap("waiting")
+            if pending:
+                timers.ghost_waits.append(spent)
 
     def rebalance(self, p, step: int) -> bool:
         """Move the cuts if max/mean particles per rank (``balance_by = "time"``: busy time per rank;

@@ -221,6 +221,11 @@ class Halo:
         recvs = [(r, GHOST_DOUBLES * n) for r, n in enumerate(self.recv_counts) if n]
         self._pending = self.comm.start_neighbour_exchange(sends, recvs)
 
+    @property
+    def pending(self) -> bool:
+        """A ghost update is posted and not yet received."""
+        return self._pending is not None
+
     def finish_update(self, p) -> None:
         """Receive the ghost update posted by ``start_update`` (nothing when none is pending); ghosts
         are stored by source rank, as the rebuild laid them out."""

@@ -1,5 +1,5 @@
 """pice bench on two ranks (run under `mpiexec -n 2 python -m pytest -m mpi`): the report gathers
-both ranks' split, and the benchmark sheet breaks the same bonds on two ranks as on one.
+both ranks' split and their waits for the ghost update, and the benchmark sheet breaks the same bonds on two ranks as on one.
 
 No assertion here is on speed: tests/unit/test_bench.py says why.
 """
@@ -41,6 +41,10 @@ def test_bench_gathers_both_ranks_split(tmp_out):
             assert part["max_ms_per_step"] == max(part["per_rank_ms_per_step"])
         assert split["parts"]["halo"]["max_ms_per_step"] > 0 and split["parts"]["waiting"]["max_ms_per_step"] > 0
         assert split["sum_over_outside"] <= 1.0 + 1e-9
+        # each rank's waits for the ghost update are part of its "waiting": none can exceed its total
+        for waits, waiting in zip(split["ghost_wait_ms"], split["parts"]["waiting"]["per_rank_ms_per_step"]):
+            assert waits is not None and 0 <= waits["median"] <= waits["p90"] <= waits["max"]
+            assert waits["max"] <= waiting * split["steps"] * (1 + 1e-9)
 
 
 def test_the_sheet_breaks_the_same_bonds_on_two_ranks_as_on_one():

@@ -78,6 +78,7 @@ def test_bench_writes_the_figures_the_machine_and_a_split_that_adds_up(tmp_path,
         outside_ticks = (split["outside_ms_per_step"] - split["ms_per_step"]) * split["steps"]  # 1 ms a tick
         assert 0 <= round(outside_ticks) <= OUTSIDE_TICKS, outside_ticks
         assert split["parts"]["bonds"]["ms_per_step"] > 0 and split["parts"]["integration"]["ms_per_step"] > 0
+        assert split["ghost_wait_ms"] == [None]  # one rank receives no ghost update
     assert full["split"]["parts"]["platform"]["ms_per_step"] > 0 and full["split"]["parts"]["output"]["ms_per_step"] > 0
     assert sheet["split"]["parts"]["output"]["ms_per_step"] == 0.0  # the sheet writes nothing
     assert result["json"] == str(out) and not (tmp_path / "bench_scratch.h5").exists()
