@@ -1,7 +1,8 @@
 """One rank's simulation: set-up from a job, and the step (DESIGN.md "The step").
 
 The step (velocity Verlet):
-    half kick with F(t);  drift x(t+dt);  post the ghost update;  the force terms on owned elements only
+    half kick with F(t);  drift x(t+dt);  post the ghost update;  (rank 0) the platform's step and the
+    poses' broadcast, which the other ranks receive only before the hull term;  the force terms on owned elements only
     (water, walls, hulls, far-field springs) while it travels;  receive the ghosts;  bonds and contacts;
     half kick.  Bond and contact increments use the half-step velocities: the exact displacement increment.
 
@@ -240,15 +241,15 @@ class Simulation:
         if self.floes is not None:  # every rank: all floes
             self.floes.kick(half)
             self.floes.drift(dt)
+        c.step += 1
+        c.time = c.step * dt
+        if self.has_sheet:  # the ghosts' update first: it does not wait for rank 0's platform
+            self.domain.exchange(p, c.step)
         if platform is not None:  # rank 0: bodies and lines to t + dt
             platform.kick(half)
             platform.drift(dt)
-        c.step += 1
-        c.time = c.step * dt
         if self.hulls:
             self.start_poses()
-        if self.has_sheet:
-            self.domain.exchange(p, c.step)
         self.compute_forces()
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
         if self.floes is not None:
@@ -280,17 +281,17 @@ class Simulation:
             self.floes.kick(half)
             self.floes.drift(dt)
         lap("integration")
+        c.step += 1
+        c.time = c.step * dt
+        if self.has_sheet:
+            self.domain.exchange(p, c.step, timers)  # laps "halo" and "waiting"
         if platform is not None:
             platform.kick(half)
             platform.drift(dt)
             lap("platform")
-        c.step += 1
-        c.time = c.step * dt
         if self.hulls:
             self.start_poses()
             lap("waiting")
-        if self.has_sheet:
-            self.domain.exchange(p, c.step, timers)  # laps "halo" and "waiting"
         self._timed_forces(lap)
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
         if self.floes is not None:
