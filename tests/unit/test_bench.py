@@ -135,3 +135,29 @@ def test_the_plain_step_reads_no_clock_and_the_timed_step_gives_its_numbers_bit_
     reads.clear()
     timed.advance(3)
     assert reads == [] and timed.timers is None and "step" not in vars(timed)
+
+
+def test_the_efficiency_script_pairs_one_and_two_rank_runs_of_each_tree(tmp_path, capsys):
+    """benchmarks/efficiency.py (issue 12's measurement: interleaved 1- and 2-rank rounds, medians)
+    on a small sheet, one round: each efficiency is the 2-rank throughput over twice the 1-rank one
+    of the same round, read back from the launches' JSON; a path that is no checkout is refused.
+    No assertion on speed (this module's docstring says why)."""
+    serial_only()
+    import importlib.util
+    import pathlib
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    spec = importlib.util.spec_from_file_location("efficiency", root / "benchmarks" / "efficiency.py")
+    eff = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(eff)
+    out = tmp_path / "eff"
+    medians = eff.main(["--rounds", "1", "--steps", "6", "--warmup", "2", "--length", "12", "--width", "8",
+                        "--out", str(out), "--trees", str(root)])
+    one = json.loads((out / "tree0_1r_round1.json").read_text())
+    two = json.loads((out / "tree0_2r_round1.json").read_text())
+    assert one["ranks"] == 1 and two["ranks"] == 2
+    expected = two["sheet"]["particle_steps_per_second"] / (2 * one["sheet"]["particle_steps_per_second"])
+    assert medians == {str(root): pytest.approx(expected, rel=1e-12)}
+    assert "median efficiency" in capsys.readouterr().out
+    with pytest.raises(SystemExit, match="not a pice checkout"):
+        eff.main(["--trees", str(tmp_path)])
