@@ -62,6 +62,9 @@ def main(argv=None) -> dict:
     ap.add_argument("--width", type=float, default=200.0, help="the sheet's width [m]")
     ap.add_argument("--out", default="runs/efficiency", help="folder for each launch's JSON")
     args = ap.parse_args(argv)
+    for name, least in (("rounds", 1), ("ranks", 2), ("steps", 1), ("warmup", 0)):
+        if getattr(args, name) < least:
+            ap.error(f"--{name} {getattr(args, name)}: give at least {least}")
     trees = [pathlib.Path(t).resolve() for t in args.trees]
     for t in trees:
         if not (t / "pice" / "cli.py").is_file():

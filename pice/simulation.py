@@ -1,10 +1,10 @@
 """One rank's simulation: set-up from a job, and the step (DESIGN.md "The step").
 
-The step (velocity Verlet):
-    half kick with F(t);  drift x(t+dt);  post the ghost update;  (rank 0) the platform's step and the
-    poses' broadcast, which the other ranks receive only before the hull term;  the force terms on owned elements only
-    (water, walls, hulls, far-field springs) while it travels;  receive the ghosts;  bonds and contacts;
-    half kick.  Bond and contact increments use the half-step velocities: the exact displacement increment.
+The step (velocity Verlet; docs/architecture.md "The step, in order"):
+    half kick with F(t);  drift x(t+dt);  post the ghost update;  rank 0: the platform's step, post the poses;
+    the terms on owned elements (water, walls, far-field springs) while the ghosts travel;  receive them;
+    bonds and contacts;  receive the poses;  hulls;  half kick.  Bond and contact increments use the
+    half-step velocities: the exact displacement increment.
 
 The forces come from a list of force terms built at set-up (``self.terms``), one object per piece of
 physics the job declares (bonds, ice contacts, walls, water or gravity, the spring boundary, hulls);

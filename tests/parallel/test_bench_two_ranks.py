@@ -1,5 +1,6 @@
 """pice bench on two ranks (run under `mpiexec -n 2 python -m pytest -m mpi`): the report gathers
-both ranks' split and their waits for the ghost update, and the benchmark sheet breaks the same bonds on two ranks as on one.
+both ranks' split and their waits for the ghost update, and the benchmark sheet breaks the same
+bonds on two ranks as on one.
 
 No assertion here is on speed: tests/unit/test_bench.py says why.
 """

@@ -161,3 +161,6 @@ def test_the_efficiency_script_pairs_one_and_two_rank_runs_of_each_tree(tmp_path
     assert "median efficiency" in capsys.readouterr().out
     with pytest.raises(SystemExit, match="not a pice checkout"):
         eff.main(["--trees", str(tmp_path)])
+    with pytest.raises(SystemExit):  # argparse's error: "--ranks 1: give at least 2"
+        eff.main(["--ranks", "1"])
+    assert "--ranks 1: give at least 2" in capsys.readouterr().err
