@@ -5,7 +5,9 @@ HDF5: ``rects`` (n, 4, 2) [m] each block's rectangle in its principal frame, ``x
 centre, ``q`` (n, 4) its attitude; attributes: the [keel] it was generated from (JSON, the key
 ``keel``), the porosity of the keel and of its core, the time it took to settle [s], the RMS speed
 then [m/s], the number released, the time the staged settling's friction returned (``locked_at``
-[s], NaN without keel.lock_speed), and ``format``. Written to a temporary name and renamed, so a
+[s], NaN without keel.lock_speed), ``format``, and what made it: ``pice_version`` and ``commit`` (the
+work tree's, "" outside a git checkout; a keel file kept in the repository, jobs/keels/, names the
+code that generated it). Written to a temporary name and renamed, so a
 killed generation leaves no half file.
 
 The generation checkpoint (``generation_path``: the keel file's name + ".gen.h5"): the settling
@@ -29,6 +31,7 @@ import pathlib
 
 import numpy as np
 
+from .. import __version__
 from ..errors import JobError
 
 KEEL_FORMAT = 1
@@ -62,9 +65,18 @@ def write_keel(path, keel, result) -> pathlib.Path:
         f.attrs.update(format=KEEL_FORMAT, keel=json.dumps(_generation_keys(keel)),
                        contact=json.dumps(keel.contact.model_dump(mode="json")), porosity=result.porosity,
                        core_porosity=result.core_porosity, settle_time=result.settle_time, locked_at=result.locked_at,
-                       rms_speed=result.rms_speed, released=result.released)
+                       rms_speed=result.rms_speed, released=result.released, pice_version=__version__,
+                       commit=_commit())
     os.replace(tmp, path)
     return path
+
+
+def _commit() -> str:
+    """The commit of the work tree pice runs from, with "+dirty" when tracked files differ; "" outside git."""
+    from ..bench.machine import code
+
+    state = code()
+    return (state["commit"] or "") + ("+dirty" if state["commit"] and state["dirty"] else "")
 
 
 def read_keel(path, keel, source: str) -> dict:
