@@ -65,13 +65,19 @@ def test_the_settled_keel_is_at_rest_under_the_cover_inside_the_basin(micro):
     """The generation stops when the blocks' RMS speed is below keel.settle_speed (2 mm/s); every
     block of the file lies below the cover and between the end walls, up to the contact's overlap
     (1 mm: the buoyant weight of a column of blocks over k_n = 1e7 N/m is ~0.02 mm), and inside the
-    keel's width at the cover (the trim)."""
+    keel's width at the cover (the trim). The file names the pice version and commit that made it."""
     folder, job_path = micro
     job = load_job(job_path)
     kl = job.keel
     with h5py.File(folder / "micro.keel.h5") as f:
         assert f.attrs["rms_speed"] < kl.settle_speed
         assert 0 < len(f["x"]) < f.attrs["released"]
+        # what made it (a kept file names its code): this checkout's commit, or "" outside git
+        from pice import __version__
+        from pice.bench.machine import code
+
+        assert f.attrs["pice_version"] == __version__
+        assert f.attrs["commit"].split("+")[0] == (code()["commit"] or "")
     data = read_keel(folder / "micro.keel.h5", kl, job.source)
     for rect, x, q in zip(data["rects"], data["x"], data["q"]):
         pts, counts = prism(rect, -0.15, 0.15)
@@ -258,3 +264,4 @@ def test_the_staged_settling_packs_a_keel_to_the_porosity_of_rubble():
     k = generate_keel(job.model_copy(update=dict(keel=keel)), SerialComm())
     assert k.rms_speed < 5e-3
     assert 0.25 <= k.core_porosity <= 0.40 and k.porosity < 0.45, (k.porosity, k.core_porosity)
+
