@@ -74,6 +74,12 @@ friction = 0.1
 DURATION = 20.0  # [s] at 1 m/s: the stem meets the keel at delta = 2 m, the bow's shoulder leaves it at 15.4 m
 
 
+def _pice(*args: str) -> None:
+    """``pice ARGS`` in this process; stop the study, naming the command, when it fails."""
+    if pice(list(args)) != 0:
+        raise SystemExit(f"keel_step_trade: `pice {' '.join(args)}` failed (its message is above)")
+
+
 def generate(out: pathlib.Path, seed: int, fraction: float) -> dict:
     """Generate the keel of ``seed`` at ``fraction``; its file's records and the wall time [s]."""
     from pice.io.keel_file import read_keel
@@ -85,7 +91,7 @@ def generate(out: pathlib.Path, seed: int, fraction: float) -> dict:
     took = out / f"{job.stem}.wall"  # the generation's wall time [s], kept for a continued study
     if not keel_file.exists():
         t0 = time.perf_counter()
-        assert pice(["keel", str(job)]) == 0
+        _pice("keel", str(job))
         took.write_text(repr(time.perf_counter() - t0))
     wall = float(took.read_text()) if took.exists() else float("nan")
     k = read_keel(keel_file, load_job(job).keel, str(job))
@@ -106,7 +112,7 @@ def ship_run(out: pathlib.Path, keel: dict, fraction: float) -> dict:
     job.write_text(KEEL.format(name=name, duration=DURATION, seed=keel["seed"], fraction=fraction,
                                keel_file=keel["file"]) + SHIP)
     t0 = time.perf_counter()
-    assert pice(["run", str(job), "-o", str(out / f"{name}.h5")]) == 0
+    _pice("run", str(job), "-o", str(out / f"{name}.h5"))
     wall = time.perf_counter() - t0
     with open_run(out / f"{name}.h5") as run:
         delta, r = resistance_record(run)

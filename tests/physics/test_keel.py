@@ -15,7 +15,7 @@ import pytest
 
 from pice.cli import main
 from pice.errors import JobError
-from pice.io.keel_file import read_keel
+from pice.io.keel_file import keel_path, read_keel
 from pice.job import load_job
 from pice.kernels.floe_motion import world_polyhedra
 from pice.kernels.polyhedra import prism
@@ -79,12 +79,22 @@ def test_the_settled_keel_is_at_rest_under_the_cover_inside_the_basin(micro):
         assert f.attrs["pice_version"] == __version__
         assert f.attrs["commit"].split("+")[0] == (code()["commit"] or "")
     data = read_keel(folder / "micro.keel.h5", kl, job.source)
-    for rect, x, q in zip(data["rects"], data["x"], data["q"]):
-        pts, counts = prism(rect, -0.15, 0.15)
-        world = world_polyhedra(pts[None, :6, :4].copy(), counts[None, :6].copy(), x[None], q[None])[0]
-        assert world[..., 2].max() <= kl.cover + 1e-3
-        assert world[..., 1].min() >= kl.y0 - 1e-3 and world[..., 1].max() <= kl.y0 + kl.length + 1e-3
-        assert abs(x[0] - kl.x) <= 0.5 * kl.width
+    _assert_in_basin(kl, data, 1e-3)
+
+
+def _assert_in_basin(kl, data, tol: float) -> None:
+    """Every block of the keel file's ``data`` lies below the cover and between the end walls up to
+    ``tol`` [m] (the contacts' overlap), with its centre inside the trimmed keel."""
+    from pice.scenes.rubble import inside_keel
+
+    x, q, rects = data["x"], data["q"], data["rects"]
+    assert inside_keel(kl, x).all()
+    half = 0.5 * kl.blocks.thickness
+    pts, counts = zip(*(prism(r, -half, half) for r in rects))
+    world = world_polyhedra(np.array([p[:6, :4] for p in pts]), np.array([c[:6] for c in counts]), x, q)
+    assert world.shape[0] == len(x)
+    assert world[..., 2].max() <= kl.cover + tol
+    assert world[..., 1].min() >= kl.y0 - tol and world[..., 1].max() <= kl.y0 + kl.length + tol
 
 
 def test_a_keel_file_from_another_keel_is_refused(micro):
@@ -268,16 +278,11 @@ def test_the_staged_settling_packs_a_keel_to_the_porosity_of_rubble():
 
 def _committed_keels():
     """The jobs whose keel file is kept in the repository (jobs/keels/): their ship runs start without
-    a generation of hours (docs/ridge_keel.md, "The keel files kept")."""
+    a generation of hours (docs/ridge_keel.md, "The narrow keel kept in the repository")."""
     import pathlib
 
     jobs = pathlib.Path(__file__).resolve().parents[2] / "jobs"
-    out = []
-    for path in sorted(jobs.glob("gong_2017_keel_*.toml")):
-        job = load_job(path)
-        if (path.parent / job.keel.file).exists():
-            out.append(path)
-    return out
+    return [path for path in sorted(jobs.glob("gong_2017_keel_*.toml")) if keel_path(load_job(path), path.parent).exists()]
 
 
 def test_the_kept_keel_files_are_their_jobs_settled_keels():
@@ -290,29 +295,25 @@ def test_the_kept_keel_files_are_their_jobs_settled_keels():
     50 kN on one block, some 20 times the mean under the narrow keel's cover before the trim (its
     10,750 blocks' buoyant weight, 1.8 MN, over the 716 blocks that touch it: 2.6 kN), where force
     chains put a few times the mean on some blocks (measured: 3.1 mm at most, 48 blocks above 1 mm;
-    the end walls 0.8 mm). 1.7 % of a block's 0.3 m, the blocks' geometry is resolved. The file's porosity is measured again from its blocks with other sample points: 50,000 here
+    the end walls 0.8 mm). 1.7 % of a block's 0.3 m, the blocks' geometry is resolved.
+
+    The file's porosity is measured again from its blocks with other sample points: 50,000 here
     against its 200,000, standard errors 0.0021 and 0.0010, so the two agree within 4 standard
     errors of the difference, 0.009."""
     from pice.physics.keel import blocks_as_floes, keel_law, keel_water
-    from pice.scenes.rubble import inside_keel, porosity
+    from pice.scenes.rubble import porosity
 
     kept = _committed_keels()
     assert kept, "no keel file kept in jobs/keels/ (the narrow keel's, jobs/gong_2017_keel_w17_3.toml, is)"
     for path in kept:
         job = load_job(path)
         kl = job.keel
-        file = path.parent / kl.file
+        file = keel_path(job, path.parent)
         with h5py.File(file) as f:
             assert f.attrs["rms_speed"] < kl.settle_speed
         data = read_keel(file, kl, job.source)
+        _assert_in_basin(kl, data, 5e-3)
         x, q, rects = data["x"], data["q"], data["rects"]
-        assert inside_keel(kl, x).all()
-        n = len(x)
-        pts, counts = zip(*(prism(r, -0.5 * kl.blocks.thickness, 0.5 * kl.blocks.thickness) for r in rects))
-        world = world_polyhedra(np.array([p[:6, :4] for p in pts]), np.array([c[:6] for c in counts]), x, q)
-        assert world.shape[0] == n
-        assert world[..., 2].max() <= kl.cover + 5e-3
-        assert world[..., 1].min() >= kl.y0 - 5e-3 and world[..., 1].max() <= kl.y0 + kl.length + 5e-3
         assert 0.25 <= data["porosity"] <= 0.40, (file, data["porosity"])
         body = np.array(blocks_as_floes(kl, rects, x, q, keel_law(kl), keel_water(job)).polygons)
         again = porosity(kl, x, q, body, kl.blocks.thickness, samples=50_000, seed=1)
