@@ -1,5 +1,5 @@
 """Seed 002's two model checks on a small keel (issue 15; docs/ridge_keel.md, "Half and full model,
-mu_i, on a small keel"): the half model with its symmetry wall against the full model, and the ice-ice
+mu_i, and the keel at step 0.2, on a small keel"): the half model with its symmetry wall against the full model, and the ice-ice
 friction mu_i 0.3 against 0.6, on one rank.
 
     python benchmarks/keel_half_full.py [--seeds 1 2 3] [--frictions 0.3 0.6] [--fraction 0.1] [--out DIR]
@@ -17,8 +17,9 @@ Fig. 5) and work of R, then
 - the full model's R^p over twice the half model's, seed by seed and of the means (seed 002: full
   models 6-10 % above twice the half; the issue's check: within 10 %);
 - R^p at mu_i 0.6 over 0.3 on the same keel (seed 002, Fig. 8: +16 to +38 %, most at small w).
-Both read against the spread of R^p from one random keel to the next. Results go to DIR (default
-runs/keel_half_full, shared with keel_step_trade.py's names: its half keels and runs are reused).
+The first is read against the spread of R^p from one random keel to the next; the second is paired
+(one keel, both frictions). Results go to DIR (default runs/keel_half_full); the files are named as
+keel_step_trade.py names them, so with its --out the half keels and runs already there are reused.
 """
 
 from __future__ import annotations
@@ -79,10 +80,14 @@ def main() -> None:
         for m in args.models:
             a = [runs[(m, s, hi)]["peak_kN"] for s in args.seeds]
             b = [runs[(m, s, lo)]["peak_kN"] for s in args.seeds]
-            each = ", ".join(f"{x / y:.3f}" for x, y in zip(a, b))
-            print(f"\n{m}: R^p(mu_i {hi:g}) / R^p(mu_i {lo:g}) = {_ratio(a, b)} (seed by seed {each}; seed 002: "
-                  "1.16-1.38)", end="")
-            summary[f"friction_ratio_{m}"] = float(np.mean(a) / np.mean(b))
+            # paired: both frictions on one keel, so the ratio is taken keel by keel and the keels'
+            # spread of R^p cancels in it; the +- is the standard error of those ratios' mean
+            paired = np.array(a) / np.array(b)
+            each = ", ".join(f"{x:.3f}" for x in paired)
+            se = f" +- {np.std(paired, ddof=1) / np.sqrt(len(paired)):.3f}" if len(paired) > 1 else ""
+            print(f"\n{m}: R^p(mu_i {hi:g}) / R^p(mu_i {lo:g}) = {paired.mean():.3f}{se} (keel by keel {each}; "
+                  "seed 002: 1.16-1.38)", end="")
+            summary[f"friction_ratio_{m}"] = float(paired.mean())
     print()
     (out / "summary.json").write_text(json.dumps(dict(keels=list(keels.values()), runs=list(runs.values()),
                                                       ratios=summary), indent=1))
