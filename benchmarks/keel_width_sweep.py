@@ -22,9 +22,9 @@ results go to DIR (default runs/keel_width_sweep) as <name>.json, so a sweep sto
 (or two processes given different --widths, one per core) continues; a run killed part-way restarts
 from its checkpoint, a generation from its own (pice keel's .gen.h5). ``--report`` prints the table
 of what DIR holds: per width the blocks kept, the porosity, R^p (half model and x 2 for the ship),
-where it peaks, R^p over the narrowest keel's (seed 002: about eight-fold at 80 m, steep to 40 m, slow after), R^p at mu_i 0.6 over 0.3 (seed:
-+16 to +38 %, most at small w), and Malmberg's R_A for the ship (the seed: about 1000 kN, its
-w = 80 m keel 700-800 kN).
+where it peaks, R^p over the narrowest keel's (seed 002: about eight-fold at 80 m, steep to 40 m,
+slow after), R^p at mu_i 0.6 over 0.3 (seed: +16 to +38 %, most at small w), and Malmberg's R_A for
+the ship (the seed: about 1000 kN, its w = 80 m keel 700-800 kN).
 """
 
 from __future__ import annotations
