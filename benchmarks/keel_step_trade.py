@@ -116,7 +116,7 @@ def ship_run(out: pathlib.Path, keel: dict, fraction: float, friction: float = 0
     """Run the ship through ``keel``'s file at ``fraction`` with mu_i = ``friction``: R^p [kN], where [m],
     the work [kJ], wall [s]; the hull half or whole as the keel's model."""
     from pice.io.run_reader import open_run
-    from pice.postproc.resistance import peak_resistance, resistance_record
+    from pice.postproc.resistance import peak_resistance, resistance_record, resistance_work
 
     generated = "" if keel["fraction"] == 0.1 else f"_g{keel['fraction']:g}"  # a keel of another step
     model = keel.get("model", "half")
@@ -135,7 +135,7 @@ def ship_run(out: pathlib.Path, keel: dict, fraction: float, friction: float = 0
         delta, r = resistance_record(run)
         dt = float(run.attrs["dt"]) if "dt" in run.attrs else float("nan")
     peak, where = peak_resistance(delta, r)
-    work = float(np.sum(0.5 * (r[1:] + r[:-1]) * np.diff(delta)))
+    work = resistance_work(delta, r)
     result = dict(seed=keel["seed"], model=model, friction=friction, generated=keel["fraction"], fraction=fraction,
                   dt=dt, peak_kN=peak / 1e3, at_m=where, work_kJ=work / 1e3, max_kN=float(r.max()) / 1e3, wall=wall)
     done.write_text(json.dumps(result))

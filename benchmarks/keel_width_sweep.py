@@ -37,8 +37,6 @@ import pathlib
 import time
 import tomllib
 
-import numpy as np
-
 from pice.cli import main as pice
 from pice.io.toml_text import toml_text
 
@@ -104,7 +102,7 @@ def ship_run(width: float, friction: float, args, out: pathlib.Path) -> dict:
     """The half hull through the keel of ``width`` at mu_i = ``friction``: R^p [kN], where [m], the
     work of R [kJ], wall [s] (resumed from its checkpoint when one is there)."""
     from pice.io.run_reader import open_run
-    from pice.postproc.resistance import peak_resistance, resistance_record
+    from pice.postproc.resistance import peak_resistance, resistance_record, resistance_work
 
     name = f"ship_w{_job(width, args)}_{_tag(args)}_mu{friction:g}"
     done = out / f"{name}.json"
@@ -125,7 +123,7 @@ def ship_run(width: float, friction: float, args, out: pathlib.Path) -> dict:
         delta, r = resistance_record(run)
         dt = float(run.attrs["dt"]) if "dt" in run.attrs else float("nan")
     peak, where = peak_resistance(delta, r)
-    work = float(np.sum(0.5 * (r[1:] + r[:-1]) * np.diff(delta)))
+    work = resistance_work(delta, r)
     result = dict(width=width, friction=friction, dt=dt, peak_kN=peak / 1e3, at_m=where, work_kJ=work / 1e3,
                   delta_end=float(delta[-1]), wall=wall, **{f"keel_{k}": v for k, v in keel.items()})
     done.write_text(json.dumps(result))

@@ -57,3 +57,8 @@ def peak_resistance(delta: np.ndarray, r: np.ndarray, window: float = WINDOW):
         return float("nan"), float("nan")
     k = int(np.nanargmax(avg))
     return float(avg[k]), float(delta[k])
+
+
+def resistance_work(delta: np.ndarray, r: np.ndarray) -> float:
+    """The work of R over the penetration [J]: the trapezoid rule over the record's rows."""
+    return float(np.sum(0.5 * (r[1:] + r[:-1]) * np.diff(delta)))

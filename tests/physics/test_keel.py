@@ -19,7 +19,7 @@ from pice.io.keel_file import keel_path, read_keel
 from pice.job import load_job
 from pice.kernels.floe_motion import world_polyhedra
 from pice.kernels.polyhedra import prism
-from pice.postproc.resistance import peak_resistance, running_average
+from pice.postproc.resistance import peak_resistance, resistance_work, running_average
 
 KEEL = """
 [run]
@@ -183,6 +183,13 @@ def test_the_running_average_of_a_linear_record():
     np.testing.assert_allclose(avg[full], delta[full] - 3.0 + h / 2, atol=1e-9)
     peak, where = peak_resistance(delta, delta)
     assert where == pytest.approx(20.0) and peak == pytest.approx(17.0 + h / 2)
+
+
+def test_the_work_of_a_linear_record():
+    """R = 1000 delta [N] over 0-20 m: its work is 1000 x 20^2 / 2 = 200 kJ exactly (the trapezoid rule
+    is exact for a linear record), on an uneven sampling as well."""
+    delta = np.concatenate([np.linspace(0.0, 5.0, 7), np.linspace(5.5, 20.0, 30)])
+    assert resistance_work(delta, 1000.0 * delta) == pytest.approx(2.0e5, rel=1e-12)
 
 
 def test_an_unsettled_generation_is_continued_where_it_stopped(micro, tmp_path, capsys):
