@@ -18,7 +18,8 @@ from __future__ import annotations
 import datetime
 import pathlib
 
-from .machine import REPO, code, machine, software
+from ..provenance import REPO, code
+from .machine import machine, software
 from .sheet import BROKEN, SHEET_LENGTH, SHEET_WIDTH
 
 #: the reference scene at its recommended setting (the job file as written)

@@ -1,7 +1,8 @@
 """What a benchmark figure was measured on: the machine, the software and the commit (pice bench).
 
 Read from /proc on Linux (None where a fact is not available), from the installed packages'
-metadata (nothing is imported for its version) and from git in the work tree of this package.
+metadata (nothing is imported for its version) and from git in the work tree of this package
+(pice/provenance.py).
 """
 
 from __future__ import annotations
@@ -9,11 +10,8 @@ from __future__ import annotations
 import os
 import pathlib
 import platform
-import subprocess
 import sys
 from importlib import metadata
-
-REPO = pathlib.Path(__file__).resolve().parents[2]  # the work tree this package sits in (editable install)
 
 
 def _cpuinfo() -> list[dict[str, str]]:
@@ -76,22 +74,3 @@ def software(mpi_library: str | None) -> dict:
     return {"python": platform.python_version(), "implementation": sys.implementation.name,
             "numpy": _version("numpy"), "numba": _version("numba"), "mpi4py": _version("mpi4py"),
             "mpi_library": mpi_library, "h5py": _version("h5py"), "pice": _version("pice")}
-
-
-def _git(*args: str) -> str | None:
-    try:
-        done = subprocess.run(["git", "-C", str(REPO), *args], capture_output=True, text=True, timeout=20)
-    except (OSError, subprocess.SubprocessError):
-        return None
-    return done.stdout.strip() if done.returncode == 0 else None
-
-
-def code() -> dict:
-    """The commit of the work tree, whether tracked files differ from it (dirty), the branch.
-
-    ``commit`` is None outside a git work tree (an installed copy)."""
-    commit = _git("rev-parse", "HEAD")
-    status = _git("status", "--porcelain", "--untracked-files=no") if commit else None
-    return {"commit": commit, "dirty": bool(status) if status is not None else None,
-            "branch": _git("rev-parse", "--abbrev-ref", "HEAD") if commit else None,
-            "subject": _git("log", "-1", "--format=%s") if commit else None}

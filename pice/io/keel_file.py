@@ -33,6 +33,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import JobError
+from ..provenance import commit_label
 
 KEEL_FORMAT = 1
 # keys of [keel] a ship run may change against its keel's generation (the contact: seed 002 runs each
@@ -66,17 +67,9 @@ def write_keel(path, keel, result) -> pathlib.Path:
                        contact=json.dumps(keel.contact.model_dump(mode="json")), porosity=result.porosity,
                        core_porosity=result.core_porosity, settle_time=result.settle_time, locked_at=result.locked_at,
                        rms_speed=result.rms_speed, released=result.released, pice_version=__version__,
-                       commit=_commit())
+                       commit=commit_label())
     os.replace(tmp, path)
     return path
-
-
-def _commit() -> str:
-    """The commit of the work tree pice runs from, with "+dirty" when tracked files differ; "" outside git."""
-    from ..bench.machine import code
-
-    state = code()
-    return (state["commit"] or "") + ("+dirty" if state["commit"] and state["dirty"] else "")
 
 
 def read_keel(path, keel, source: str) -> dict:
@@ -99,8 +92,9 @@ def read_keel(path, keel, source: str) -> dict:
     made, want = json.loads(attrs["keel"]), _generation_keys(keel)
     differ = sorted(k for k in set(made) | set(want) if made.get(k) != want.get(k))
     if differ:
-        raise JobError(f"{source}: keel.file = {str(path)!r}: generated from another keel (keel.{', keel.'.join(differ)} "
-                       f"differ); give its own file (keel.file) or {fix}")
+        keys = ", keel.".join(differ)
+        raise JobError(f"{source}: keel.file = {str(path)!r}: generated from another keel (keel.{keys} differ); "
+                       f"give its own file (keel.file) or {fix}")
     out.update(porosity=float(attrs["porosity"]), core_porosity=float(attrs["core_porosity"]),
                settle_time=float(attrs["settle_time"]), released=int(attrs["released"]),
                contact=json.loads(attrs["contact"]))

@@ -2,7 +2,8 @@
 
 Layout::
 
-    /                 attrs: job_text, job_source, pice_version, ranks, units, started, status
+    /                 attrs: job_text, job_source, pice_version, commit, ranks, units, started, status
+                     (a restart adds restarts, restarted_from, restart_step, restart_commit)
     /series/<name>    one row per recorded step (resizable; io/series_rows.py)
     /snapshots/NNNNN  attrs time, step; datasets gid, x, v, w, radius, kind, crush_depth (the largest
                       plastic penetration of the element's contacts, m), bonds (m,2 gids)
@@ -37,6 +38,7 @@ import h5py
 import numpy as np
 
 from .. import __version__
+from ..provenance import commit_label
 from . import disk
 from .xdmf import point_index_arrays
 from .errors import OutputError
@@ -86,7 +88,9 @@ class RunFile:
             self._drop()
             raise OutputError(f"{self.path}: cannot create the run file ({reason}); choose a writable path "
                               "with -o")
-        attrs = dict(job_text=job.text, job_source=job.source, pice_version=__version__, ranks=ranks,
+        # commit: the code that made the run (pice/provenance.py; "" outside git), read on rank 0 only
+        commit = commit_label() if self.rank == 0 else ""
+        attrs = dict(job_text=job.text, job_source=job.source, pice_version=__version__, commit=commit, ranks=ranks,
                      units=UNITS, started=datetime.datetime.now(datetime.timezone.utc).isoformat(),
                      status="running", **(extra_attrs or {}))
         if self.comm:  # the same attribute values on every rank (the clocks differ)
@@ -340,6 +344,7 @@ class RunFile:
         a["restarts"] = int(a.get("restarts", 0)) + 1
         a["restarted_from"] = str(restarted_from)
         a["restart_step"] = step
+        a["restart_commit"] = commit_label()  # the code that continued it (commit: the one that started it)
         if job is not None and a.get("job_text") != job.text:
             a["job_text"] = job.text
         self.h5.flush()

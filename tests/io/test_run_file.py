@@ -5,6 +5,7 @@ import numpy as np
 from scenes import slope_job
 
 from pice.cli import main
+from pice.provenance import code
 
 JOB = slope_job(duration=0.1, snapshots=3)
 
@@ -18,6 +19,8 @@ def test_run_writes_series_snapshots_and_attributes(tmp_path, capsys):
         assert f.attrs["status"] == "finished"
         assert "duration = 0.1" in f.attrs["job_text"]
         assert f.attrs["ranks"] == 1
+        # the code that made it: this checkout's commit (with +dirty when edited), "" outside git
+        assert f.attrs["commit"].split("+")[0] == (code()["commit"] or "")
         s = f["series"]
         n = len(s["time"])
         dt = f.attrs["dt"]

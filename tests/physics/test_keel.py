@@ -74,7 +74,7 @@ def test_the_settled_keel_is_at_rest_under_the_cover_inside_the_basin(micro):
         assert 0 < len(f["x"]) < f.attrs["released"]
         # what made it (a kept file names its code): this checkout's commit, or "" outside git
         from pice import __version__
-        from pice.bench.machine import code
+        from pice.provenance import code
 
         assert f.attrs["pice_version"] == __version__
         assert f.attrs["commit"].split("+")[0] == (code()["commit"] or "")
