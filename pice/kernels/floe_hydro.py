@@ -29,8 +29,10 @@ Per floe of mass m, centre x, velocity v, angular velocity w, water-plane area A
   z_min for a floe wholly under it (a keel's block: the water above it does not widen its wake);
 - a floe wholly under the surface has no water plane, so no hydrostatic stiffness and none of the
   damping above; it moves through the water vertically against the form drag on its faces,
-  1/2 rho_w C_d A_wp |v_z| v_z (A_wp its plan area; in still water: a wave's vertical particle
-  velocity is not in ``wave``, and keels have no waves).
+  1/2 rho_w C_d A_wp |w| w, A_wp its plan area and w its vertical velocity relative to the water's
+  (the waves' vertical particle velocity at its centre of mass; none in still water). A floe in the
+  surface moves with the surface (its buoyancy is cut at eta): its heave damping stands for the
+  radiation damping, which acts on the body's own velocity.
 """
 
 import math
@@ -42,16 +44,20 @@ from . import JIT
 from .polyhedron_contact import part_inside
 from .waves import sea_point
 
+SEA_COLUMNS = 7  # the sea at a floe (``floe_sea``): eta, u_x, u_y, a_x, a_y, a_z, u_z
+
 
 @njit(**JIT)
 def floe_sea(lo, hi, stride, x, amp, omega, k, direction, phase, depth, g, rho_w, t, out):
-    """The undisturbed sea at the centres of mass x of floes lo, lo + stride, ... below hi at time t [s] into out (n, 6): the
-    elevation eta [m], the particle velocity u_x, u_y [m/s] and the acceleration a_x, a_y, a_z [m/s^2]
-    (one sum over the components per floe: kernels/waves.sea_point)."""
+    """The undisturbed sea at the centres of mass x of floes lo, lo + stride, ... below hi at time t [s] into out
+    (n, SEA_COLUMNS): the elevation eta [m], the particle velocity u_x, u_y [m/s], the acceleration
+    a_x, a_y, a_z [m/s^2] and the vertical particle velocity u_z [m/s] (one sum over the components
+    per floe: kernels/waves.sea_point)."""
     for i in range(lo, hi, stride):
-        eta, u0, u1, _, a0, a1, a2, _ = sea_point(amp, omega, k, direction, phase, depth, g, rho_w,
-                                                  x[i, 0], x[i, 1], x[i, 2], t)
+        eta, u0, u1, u2, a0, a1, a2, _ = sea_point(amp, omega, k, direction, phase, depth, g, rho_w,
+                                                   x[i, 0], x[i, 1], x[i, 2], t)
         out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4], out[i, 5] = eta, u0, u1, a0, a1, a2
+        out[i, 6] = u2
 
 
 @njit(**JIT)
@@ -63,9 +69,10 @@ def floe_water(lo, hi, stride, x, v, omega, rot, mass, inertia, area, volume, pt
     water-plane areas [m^2]; volume (n,) each floe's volume [m^3] (a floe wholly under the surface,
     a keel's block, floats on it about its centre, with no clipping); inertia (n, 3) principal
     moments [kg m^2]; current (2,) [m/s]; skin
-    C_w, form C_d [-]; ``wave`` (n, 6): the sea at each floe's centre of mass (``floe_sea``: eta, u_x,
-    u_y, a_x, a_y, a_z; an empty array: still water), whose acceleration drives the Froude-Krylov
-    force and whose particle velocity adds to the current in the drag (module docstring). With
+    C_w, form C_d [-]; ``wave`` (n, SEA_COLUMNS): the sea at each floe's centre of mass (``floe_sea``:
+    eta, u_x, u_y, a_x, a_y, a_z, u_z; an empty array: still water), whose acceleration drives the
+    Froude-Krylov force and whose particle velocity adds to the current in the drag, and for a floe
+    wholly under the surface to the vertical drag (module docstring). With
     waves, ``added`` (n, 3) [kg]: each floe's added mass along x, y, z, times the waves'
     acceleration (seed 003 Eq. 11's diffraction force on a small body).
     """
@@ -74,10 +81,11 @@ def floe_water(lo, hi, stride, x, v, omega, rot, mass, inertia, area, volume, pt
     for i in range(lo, hi, stride):
         # with waves the floe floats on the surface where it is: its buoyancy is cut at level + eta there
         # (module docstring)
-        eta = uw0 = uw1 = aw0 = aw1 = aw2 = 0.0
+        eta = uw0 = uw1 = aw0 = aw1 = aw2 = uw2 = 0.0
         waves = wave.shape[0] > 0
         if waves:  # the undisturbed sea at the floe's centre of mass (seed 003 Eq. 11)
             eta, uw0, uw1, aw0, aw1, aw2 = wave[i, 0], wave[i, 1], wave[i, 2], wave[i, 3], wave[i, 4], wave[i, 5]
+            uw2 = wave[i, 6]
         flow0, flow1 = current[0] + uw0, current[1] + uw1
         u0, u1 = flow0 - v[i, 0], flow1 - v[i, 1]
         speed = math.sqrt(u0 * u0 + u1 * u1)
@@ -108,7 +116,8 @@ def floe_water(lo, hi, stride, x, v, omega, rot, mass, inertia, area, volume, pt
         torque[i, 0] += (cb1 - x[i, 1]) * fb
         torque[i, 1] -= (cb0 - x[i, 0]) * fb
         if submerged:  # no water plane, so no hydrostatic stiffness to damp: form drag across the faces
-            force[i, 2] -= 0.5 * rho_w * form * area[i] * abs(v[i, 2]) * v[i, 2]
+            wz = v[i, 2] - uw2  # through the water (still water: uw2 = 0)
+            force[i, 2] -= 0.5 * rho_w * form * area[i] * abs(wz) * wz
         else:  # heave, roll and pitch damping of a floe in the surface
             k_heave = rho_w * g * area[i]
             force[i, 2] -= damping_ratio * 2.0 * math.sqrt(k_heave * mass[i]) * v[i, 2]

@@ -32,6 +32,7 @@ import numpy as np
 
 from ..errors import JobError
 from ..kernels.floe_contact import PAIR_RECORD, STRUCTURE_RECORD, apply_pair_records, apply_structure_records
+from ..kernels.floe_hydro import SEA_COLUMNS
 from ..kernels.floe_motion import turn_all
 from ..kernels.polyhedron_contact import contact_geometry
 from .floes import FloeLaw, Floes, FloeWater, contact_step_limit
@@ -171,6 +172,8 @@ class FloeSystem:
         self.body_loads[...] = state["body_loads"]
         self.water[...] = state.get("water", 0.0)  # checkpoints before the column: zero until the next step
         f.wave_ends = (int(state["wave_interval"]), np.array(state["wave_ends"])) if "wave_interval" in state else None
+        if f.wave_ends is not None and f.wave_ends[1].shape[-1] != SEA_COLUMNS:
+            f.wave_ends = None  # a checkpoint from before u_z was kept: the next step sums the sea again
 
     def snapshot_arrays(self, first: bool) -> dict:
         """floe_pose (n, 7): x [m], q; floe_velocity (n, 3) [m/s]; the first snapshot also holds the

@@ -20,7 +20,7 @@ from ..errors import InstabilityError
 from ..kernels.floe_contact import (PAIR_RECORD, STRUCTURE_RECORD, apply_pair_records, apply_structure_records,
                                     boxes_within, build_floe_pairs, floe_boxes, floe_contacts, plane_contacts,
                                     structure_contacts)
-from ..kernels.floe_hydro import floe_sea, floe_water
+from ..kernels.floe_hydro import SEA_COLUMNS, floe_sea, floe_water
 from ..kernels.floe_motion import floe_omegas, floe_rotations, turn_all, world_polyhedra
 from ..kernels.polyhedra import prism
 from ..scenes.floe_field import polygon_area, polygon_centroid
@@ -139,7 +139,7 @@ class Floes:
         # the water's added mass [kg] along x, y, z and added inertia about the principal axes [kg m^2]
         # (``plate_added_mass``); the rigid moments stay in inertia_rigid, inertia carries both
         self.added = np.zeros((n, 3))
-        self.wave_ends = None  # (interval, (2, n, 6)): the sea at the floes at an interval's two ends
+        self.wave_ends = None  # (interval, (2, n, SEA_COLUMNS)): the sea at the floes at an interval's ends
         self.inertia_rigid = self.inertia.copy()
         if added_mass and water is not None:
             draft = thickness * density / water.density
@@ -224,14 +224,14 @@ class Floes:
         if w is None:
             return
         rot = floe_rotations(self.q)
-        wave = self.sea_at_floes(lo, hi, dt, stride) if w.sea is not None else np.zeros((0, 6))
+        wave = self.sea_at_floes(lo, hi, dt, stride) if w.sea is not None else np.zeros((0, SEA_COLUMNS))
         floe_water(lo, hi, stride, self.x, self.v, omega, rot, self.mass, self.inertia_rigid, self.area,
                    self.area * self.thickness, pts, counts,
                    w.level, w.density, w.gravity, np.asarray(w.current, float), w.skin, w.form, w.damping_ratio, wave,
                    self.added, self.force, self.torque)
 
     def sea_at_floes(self, lo, hi, dt, stride=1) -> np.ndarray:
-        """(n, 6) the sea at the floes' centres of mass now (kernels/floe_hydro.floe_sea), rows
+        """(n, SEA_COLUMNS) the sea at the floes' centres of mass now (kernels/floe_hydro.floe_sea), rows
         range(lo, hi, stride).
 
         The sums over the sea's components are the cost of a floe in waves (200 components against a
@@ -246,7 +246,7 @@ class Floes:
         every = max(1, int(round(w.wave_interval / dt)))
         k, into = divmod(self.step_count, every)
         if self.wave_ends is None or self.wave_ends[0] != k:
-            ends = np.zeros((2, len(self.mass), 6))
+            ends = np.zeros((2, len(self.mass), SEA_COLUMNS))
             for e in range(2):
                 floe_sea(lo, hi, stride, self.x, sea.amplitude, sea.omega, sea.k, sea.direction, sea.phase, sea.depth,
                          w.gravity, w.density, (k + e) * every * dt, ends[e])

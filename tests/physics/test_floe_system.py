@@ -264,6 +264,37 @@ def test_a_block_under_water_drags_on_its_own_faces_not_on_the_water_above_it():
         assert np.abs(torque).max() <= 1e-12 * abs(fz)
 
 
+def test_a_block_under_water_in_a_wave_drags_against_the_waters_vertical_motion():
+    """A block wholly under the surface, at rest where the wave's water moves straight up (deep-water
+    Airy wave, seed 003's linear sea: eta = a cos theta, u_x = a omega e^(kz) cos theta, u_z = a omega
+    e^(kz) sin theta, a_x = a omega^2 e^(kz) sin theta, a_z = -a omega^2 e^(kz) cos theta; at theta =
+    pi / 2 u_z is at its largest, and there is no horizontal velocity and no vertical acceleration),
+    feels vertically Archimedes' buoyancy less its weight and the form drag of the water rising past
+    it, 1/2 rho_w C_d A |u_z| u_z upwards on its plan area A (kernels/floe_hydro.py: the drag on the
+    block's velocity relative to the water's), and horizontally the Froude-Krylov force (rho_w V + A_x)
+    a_x (seed 003 Eq. 11). To 1e-9 (the sea's sum against the formulas here)."""
+    import math
+
+    from pice.physics.waves import Sea
+
+    rect = np.array([[-0.5, -0.31], [0.5, -0.31], [0.5, 0.31], [-0.5, 0.31]])
+    sea = Sea.regular(height=2.0, period=6.0, phase=0.5 * math.pi, density=1010.0)
+    water = FloeWater(density=1010.0, level=0.0, gravity=9.81, current=(0.0, 0.0), sea=sea, skin=0.0)
+    floes = Floes([rect], np.array([0.3]), density=920.0, base=np.array([-4.0]), law=FloeLaw(), water=water)
+    pts, counts = floes.world()
+    floes.force[:], floes.torque[:] = 0.0, 0.0
+    floes.water_loads(0, 1, pts, counts, floes.omega, 1e-3)
+    k, omega, a = sea.k[0], sea.omega[0], 1.0
+    uz = a * omega * math.exp(k * floes.x[0, 2])  # [m/s] at the block's centre, theta = pi / 2 at x = 0, t = 0
+    area = 1.0 * 0.62
+    fz = (1010.0 * area * 0.3 - floes.mass[0]) * 9.81 + 0.5 * 1010.0 * water.form * area * uz * uz
+    assert uz > 0.6  # the test means something: the drag is of the order of the net buoyancy (145 against 164 N)
+    assert abs(floes.force[0, 2] - fz) <= 1e-9 * abs(fz), (floes.force[0, 2], fz)
+    fx = (1010.0 * area * 0.3 + floes.added[0, 0]) * a * omega * omega * math.exp(k * floes.x[0, 2])
+    assert abs(floes.force[0, 0] - fx) <= 1e-9 * abs(fx), (floes.force[0, 0], fx)
+    assert abs(floes.force[0, 1]) <= 1e-9 * abs(fz)
+
+
 def _glancing_block(friction):
     """A 1 m x 0.3 m block with no water, moving at 1 m/s along a wall y <= 0 and 0.2 m/s into it,
     after 2 s (the bounce takes ~15 ms)."""
