@@ -17,18 +17,25 @@ def _git(*args: str) -> str | None:
     return done.stdout.strip() if done.returncode == 0 else None
 
 
+def _commit_and_dirty() -> tuple[str | None, bool | None]:
+    """The commit of the work tree (None outside git) and whether tracked files differ from it."""
+    commit = _git("rev-parse", "HEAD")
+    status = _git("status", "--porcelain", "--untracked-files=no") if commit else None
+    return commit, (bool(status) if status is not None else None)
+
+
 def code() -> dict:
     """The commit of the work tree, whether tracked files differ from it (dirty), the branch.
 
     ``commit`` is None outside a git work tree (an installed copy)."""
-    commit = _git("rev-parse", "HEAD")
-    status = _git("status", "--porcelain", "--untracked-files=no") if commit else None
-    return {"commit": commit, "dirty": bool(status) if status is not None else None,
+    commit, dirty = _commit_and_dirty()
+    return {"commit": commit, "dirty": dirty,
             "branch": _git("rev-parse", "--abbrev-ref", "HEAD") if commit else None,
             "subject": _git("log", "-1", "--format=%s") if commit else None}
 
 
 def commit_label() -> str:
-    """The commit pice runs from, with "+dirty" when tracked files differ from it; "" outside git."""
-    state = code()
-    return (state["commit"] or "") + ("+dirty" if state["commit"] and state["dirty"] else "")
+    """The commit pice runs from, with "+dirty" when tracked files differ from it; "" outside git (two
+    git calls: every run file and keel file records it)."""
+    commit, dirty = _commit_and_dirty()
+    return (commit or "") + ("+dirty" if commit and dirty else "")
