@@ -1,9 +1,10 @@
 """One rank's simulation: set-up from a job, and the step (DESIGN.md "The step").
 
 The step (velocity Verlet; docs/architecture.md "The step, in order"):
-    half kick with F(t);  drift x(t+dt);  post the ghost update;  rank 0: the platform's step, post the poses;
-    the terms on owned elements (water, walls, far-field springs) while the ghosts travel;  receive them;
-    bonds and contacts;  receive the poses;  hulls;  half kick.  Bond and contact increments use the
+    half kick with F(t);  drift x(t+dt);  post the ghost update;  rank 0: the platform's kick and drift,
+    post the poses;  the terms on owned elements (water, walls, far-field springs) while the ghosts
+    travel;  receive them;  bonds and contacts;  receive the poses;  hulls;  the loads to rank 0, whose
+    platform takes its loads and closing half kick;  half kick.  Bond and contact increments use the
     half-step velocities: the exact displacement increment.
 
 The forces come from a list of force terms built at set-up (``self.terms``), one object per piece of
@@ -182,10 +183,11 @@ class Simulation:
             self._poses_pending = None
 
     # -- the step ------------------------------------------------------------------------------
-    def compute_forces(self) -> None:
+    def compute_forces(self, finish_half: float | None = None) -> None:
         """Forces and torques at the current positions (half-step velocities for the rate terms):
         the terms on owned elements while the ghost update travels, then the bonds and contacts,
-        then the terms that read the body poses (``reads_poses``: the hulls) once they are here."""
+        then the terms that read the body poses (``reads_poses``: the hulls) once they are here.
+        ``finish_half`` [s]: in a step, rank 0's platform takes its closing half kick with its loads."""
         p = self.p
         p.force[:] = 0.0
         p.torque[:] = 0.0
@@ -203,10 +205,11 @@ class Simulation:
         if self.floes is not None:  # every rank: the floes' forces and their loads on the bodies
             self.floes.compute_forces(self.poses, self.c.time, self.dt)
         if self.coupling is not None:
-            self._reduce_loads()
+            self._reduce_loads(finish_half=finish_half)
 
-    def _reduce_loads(self, lap=None) -> None:
-        """The ice loads on walls and hulls to rank 0 (one reduction); rank 0 hands the bodies theirs.
+    def _reduce_loads(self, lap=None, finish_half: float | None = None) -> None:
+        """The ice loads on walls and hulls to rank 0 (one reduction); rank 0 hands the bodies theirs
+        and, in a step (``finish_half`` [s], not None), the platform finishes its step with them.
 
         ``lap``: the timed step's StepTimers.lap (None in the plain step: no clock is read)."""
         nw = len(self.job.walls)
@@ -225,8 +228,12 @@ class Simulation:
             if self.floes is not None:  # the same on every rank: not reduced
                 self.body_total = self.body_total + self.floes.body_loads
         if self.platform is not None:
-            self.platform.loads(self.body_total)
-            self.peaks.track(self.body_total[:, :3], self.platform.fairlead_tensions())
+            if finish_half is None:  # the loads alone (at the start of a run)
+                self.platform.loads(self.body_total)
+                tensions = self.platform.fairlead_tensions()
+            else:  # the loads and the step's closing half kick (the same bits as after the ice's kick)
+                tensions = self.platform.finish_step(self.body_total, finish_half)
+            self.peaks.track(self.body_total[:, :3], tensions)
             if lap is not None:
                 lap("platform")
 
@@ -246,16 +253,13 @@ class Simulation:
         if self.has_sheet:  # the ghosts' update first: it does not wait for rank 0's platform
             self.domain.exchange(p, c.step)
         if platform is not None:  # rank 0: bodies and lines to t + dt
-            platform.kick(half)
-            platform.drift(dt)
+            platform.begin_step(half, dt)
         if self.hulls:
             self.start_poses()
-        self.compute_forces()
+        self.compute_forces(finish_half=half)  # rank 0's platform: its loads and closing half kick
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
         if self.floes is not None:
             self.floes.kick(half)
-        if platform is not None:
-            platform.kick(half)
 
     # -- the timed step (pice/timers.py) --------------------------------------------------------
     def enable_timers(self):
@@ -286,23 +290,19 @@ class Simulation:
         if self.has_sheet:
             self.domain.exchange(p, c.step, timers)  # laps "halo" and "waiting"
         if platform is not None:
-            platform.kick(half)
-            platform.drift(dt)
+            platform.begin_step(half, dt)
             lap("platform")
         if self.hulls:
             self.start_poses()
             lap("waiting")
-        self._timed_forces(lap)
+        self._timed_forces(lap, finish_half=half)
         kick(p.nlocal, p.v, p.w, p.force, p.torque, p.ext_force, p.mass, p.inertia, p.fix_mask, p.fix_velocity, half)
         if self.floes is not None:
             self.floes.kick(half)
         lap("integration")
-        if platform is not None:
-            platform.kick(half)
-            lap("platform")
         timers.steps += 1
 
-    def _timed_forces(self, lap) -> None:
+    def _timed_forces(self, lap, finish_half: float | None = None) -> None:
         """``compute_forces`` with each force term timed (pice/timers.py TERM_PARTS)."""
         p = self.p
         p.force[:] = 0.0
@@ -327,7 +327,7 @@ class Simulation:
             self.floes.compute_forces(self.poses, self.c.time, self.dt)
             lap("floes")
         if self.coupling is not None:
-            self._reduce_loads(lap)
+            self._reduce_loads(lap, finish_half)
 
     def advance(self, nsteps: int) -> None:
         """Take ``nsteps`` steps, checking for runaway motion every ``run.check_every`` steps."""

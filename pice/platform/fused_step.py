@@ -1,4 +1,4 @@
-"""The platform's step as three compiled calls: one free body on one group of DEM lines in still water.
+"""The platform's step as two compiled calls: one free body on one group of DEM lines in still water.
 
 ``Platform`` steps its bodies and lines through Python objects: a rigid body's kick, drift and loads,
 the fairleads' kinematics, the lines' sub-steps and their pull, each a kernel called with its own
@@ -8,7 +8,9 @@ ice's kernels, which evict its code and data every step, so the glue costs more 
 DEM, still water: the reference scene, the Kulluk in calm water, the buoy) this module makes each of
 ``kick``, ``drift`` and ``loads`` one kernel call on the body's state packed in (1, k) arrays, with
 the same arithmetic in the same order as the general path, so the results are the same bits
-(tests/unit/test_fused_platform.py).
+(tests/unit/test_platform.py). A step takes two: ``begin_step`` (the kick and the drift) and
+``finish_step`` (the loads, the fairlead tensions and the closing kick), as each call costs more in
+Python glue reloaded from memory than in arithmetic.
 
 The body's ``x``, ``v``, ``q``, ``L``, ``force`` and ``torque`` become views of the packed rows, so
 everything that reads the body (poses, output, energies, checkpoints) sees the state; code that
@@ -71,6 +73,34 @@ def body_loads(vertices, triangles, braces, brace_slices, x, v, q, L, mass, iner
 
 
 @njit(**JIT)
+def kick_and_drift(x, v, q, L, inertia, line, body, point, n_lines, dt, nsub, lx, lv, lmass, prev, seg, props,
+                   constants, kind, water, current, seabed, no_waves, lforce, tension, added_mass, tangent, fairleads,
+                   force, torque, kick_mass, half_dt):
+    """The start of a step in one call: ``kick_body`` by half_dt [s] with ``kick_mass`` [kg] (the mass
+    with the added mass), then ``drift_body_and_lines`` by dt [s] (its arguments first)."""
+    kick_body(v, L, q, force, torque, kick_mass, half_dt)
+    drift_body_and_lines(x, v, q, L, inertia, line, body, point, n_lines, dt, nsub, lx, lv, lmass, prev, seg, props,
+                         constants, kind, water, current, seabed, no_waves, lforce, tension, added_mass, tangent,
+                         fairleads)
+
+
+@njit(**JIT)
+def loads_and_kick(vertices, triangles, braces, brace_slices, x, v, q, L, mass, inertia, added_mass, damping,
+                   current_drag, current, rho_w, g, level, ice, line, body, point, lforce, fairleads, free, force,
+                   torque, total, tensions, kick_mass, half_dt):
+    """The end of a step in one call: ``body_loads``, the fairlead tensions [N] (|force| at each
+    fairlead node, as mooring_lines.node_force_norms) into ``tensions``, then ``kick_body`` by
+    half_dt [s] with ``kick_mass`` [kg] (the mass with the added mass)."""
+    body_loads(vertices, triangles, braces, brace_slices, x, v, q, L, mass, inertia, added_mass, damping,
+               current_drag, current, rho_w, g, level, ice, line, body, point, lforce, fairleads, free, force, torque,
+               total)
+    for k in range(len(fairleads)):
+        f = lforce[fairleads[k]]
+        tensions[k] = math.sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2])
+    kick_body(v, L, q, force, torque, kick_mass, half_dt)
+
+
+@njit(**JIT)
 def body_pose(x, q, v, L, inertia):
     """(1, 13) x, q, v, omega of the body (RigidBody.pose_vector): a new array, as the poses' broadcast
     holds it while it travels."""
@@ -130,27 +160,48 @@ class FusedStep:
         r = self.rows
         kick_body(r["v"], r["L"], r["q"], r["force"], r["torque"], self.mass, half_dt)
 
+    def _substeps(self, dt: float) -> int:
+        """The lines' sub-steps in a step of dt [s] (Platform.drift)."""
+        return max(1, int(math.ceil(dt / self.platform.line_dt - 1e-12)))
+
     def drift(self, dt: float) -> None:
+        self.begin_step(0.0, dt, kick=False)
+
+    def begin_step(self, half_dt: float, dt: float, kick: bool = True) -> None:
+        """Platform.kick(half_dt) then Platform.drift(dt) [s] in one kernel call (``kick=False``: the drift only)."""
         self._bound()
         r, p = self.rows, self.platform
         start = p.time
         p.time += dt
         lines = self.group.lines
-        nsub = max(1, int(math.ceil(dt / p.line_dt - 1e-12)))
+        nsub = self._substeps(dt)
         line, body, point = self.group.arrays()
-        drift_body_and_lines(r["x"], r["v"], r["q"], r["L"], self.inertia, line, body, point, len(line), dt, nsub,
-                             lines.x, lines.v, lines.mass, lines.prev, lines.seg, lines.props, lines.constants,
-                             lines.kind, lines.water, lines.current, lines.seabed, self.no_waves, lines.force,
-                             lines.tension, lines.added_mass, lines.tangent, lines.fairleads)
+        args = (r["x"], r["v"], r["q"], r["L"], self.inertia, line, body, point, len(line), dt, nsub,
+                lines.x, lines.v, lines.mass, lines.prev, lines.seg, lines.props, lines.constants,
+                lines.kind, lines.water, lines.current, lines.seabed, self.no_waves, lines.force,
+                lines.tension, lines.added_mass, lines.tangent, lines.fairleads)
+        if kick:
+            kick_and_drift(*args, r["force"], r["torque"], self.mass, half_dt)
+        else:
+            drift_body_and_lines(*args)
         lines.time = start + dt / nsub * nsub
+
+    def _loads_args(self, ice: np.ndarray, total: np.ndarray) -> tuple:
+        r, p, b = self.rows, self.platform, self.body
+        line, body, point = self.group.arrays()
+        lines = self.group.lines
+        return (b.vertices, b.triangles, b.braces, int(b.brace_slices), r["x"], r["v"], r["q"], r["L"],
+                float(b.mass), self.inertia, b.added_mass, b.damping, b.current_drag, p.current, p.rho_w, p.g,
+                p.level, ice, line, body, point, lines.force, lines.fairleads, self.free, r["force"], r["torque"],
+                total)
 
     def loads(self, ice: np.ndarray, total: np.ndarray) -> None:
         """The body's force and torque from still water, ``ice`` (1, 6) and the lines; their pull into
         ``total`` (1, 3)."""
         self._bound()
-        r, p, b = self.rows, self.platform, self.body
-        line, body, point = self.group.arrays()
-        lines = self.group.lines
-        body_loads(b.vertices, b.triangles, b.braces, int(b.brace_slices), r["x"], r["v"], r["q"], r["L"],
-                   float(b.mass), self.inertia, b.added_mass, b.damping, b.current_drag, p.current, p.rho_w, p.g,
-                   p.level, ice, line, body, point, lines.force, lines.fairleads, self.free, r["force"], r["torque"], total)
+        body_loads(*self._loads_args(ice, total))
+
+    def finish_step(self, ice: np.ndarray, total: np.ndarray, tensions: np.ndarray, half_dt: float) -> None:
+        """``loads``, the fairlead tensions [N] into ``tensions`` and Platform.kick(half_dt) [s] in one kernel call."""
+        self._bound()
+        loads_and_kick(*self._loads_args(ice, total), tensions, self.mass, half_dt)

@@ -93,8 +93,9 @@ class Platform:
         self.wave_intervals = WaveIntervals(self.sea) if self.sea is not None else None
         self.ice = np.zeros((len(bodies), 6))
         self.mooring_force = np.zeros((len(bodies), 3))  # pull of all lines on each body [N]
-        # one free body on one group of DEM lines in still water: three compiled calls a step (fused_step.py)
+        # one free body on one group of DEM lines in still water: two compiled calls a step (fused_step.py)
         self.fused = FusedStep(self) if FusedStep.applies(self) else None
+        self._tensions = np.zeros(self.n_lines)  # the fairlead tensions of the step (finish_step) [N]
 
     @property
     def moorings(self):
@@ -127,6 +128,27 @@ class Platform:
         return np.array([b.pose_vector() for b in self.bodies]).reshape(len(self.bodies), 13)
 
     # -- the step ------------------------------------------------------------------------------
+    def begin_step(self, half_dt: float, dt: float) -> None:
+        """``kick(half_dt)`` then ``drift(dt)`` [s]: one compiled call on the fused path."""
+        if self.fused is not None:
+            self.fused.begin_step(half_dt, dt)
+            return
+        self.kick(half_dt)
+        self.drift(dt)
+
+    def finish_step(self, ice: np.ndarray, half_dt: float) -> np.ndarray:
+        """``loads(ice)`` then ``kick(half_dt)`` [s]; returns the fairlead tensions (n_lines,) [N] of
+        the new loads (``fairlead_tensions``), which the peaks track: one compiled call on the fused
+        path. The array is reused by the next step."""
+        self.ice = np.asarray(ice, float).reshape(len(self.bodies), 6)
+        if self.fused is not None:
+            self.fused.finish_step(self.ice, self.mooring_force, self._tensions, half_dt)
+            return self._tensions
+        self.loads()
+        tensions = self.fairlead_tensions()
+        self.kick(half_dt)
+        return tensions
+
     def kick(self, half_dt: float) -> None:
         if self.fused is not None:
             self.fused.kick(half_dt)

@@ -70,34 +70,65 @@ def test_moored_platform_at_rest_stays_put():
 
 @pytest.mark.parametrize("restart", [False, True])
 def test_the_fused_step_gives_the_general_paths_bits(restart):
-    """platform/fused_step.py: one free body on DEM lines in still water, stepped by three compiled
-    calls, gives the general path's bits (the same arithmetic in the same order): the body, the lines
-    and the lines' pull after 300 steps of a changing ice load, also across a set_state halfway (a
-    restart: it gives the body new arrays, which the fused step must notice)."""
+    """platform/fused_step.py: one free body on DEM lines in still water, stepped by two compiled
+    calls (begin_step, finish_step: the simulation's way) or by the separate kick, drift, loads and
+    kick, gives the general path's bits (the same arithmetic in the same order): the body, the lines,
+    the lines' pull and the fairlead tensions after 300 steps of a changing ice load, also across a
+    set_state halfway (a restart: it gives the body new arrays, which the fused step must notice)."""
     fused, b1 = moored_semi()
-    general, b2 = moored_semi()
-    assert fused.fused is not None
+    separate, _ = moored_semi()
+    general, _ = moored_semi()
+    assert fused.fused is not None and separate.fused is not None
     general.fused = None
     dt, rng = 2.6e-4, np.random.default_rng(3)
-    for p in (fused, general):
+    for p in (fused, separate, general):
         p.loads()
     for step in range(300):
         ice = np.concatenate([rng.normal((1e7, 0.0, 0.0), 2e6), rng.normal(0.0, 2e7, 3)]).reshape(1, 6)  # [N], [N m]
-        for p in (fused, general):
+        fused.begin_step(0.5 * dt, dt)
+        tensions = fused.finish_step(ice, 0.5 * dt)
+        for p in (separate, general):
             p.kick(0.5 * dt)
             p.drift(dt)
             p.loads(ice)
+        assert np.array_equal(tensions, general.fairlead_tensions())  # what the peaks track
+        for p in (separate, general):
             p.kick(0.5 * dt)
         if restart and step == 150:
             fused.set_state(fused.state())
+            separate.set_state(separate.state())
     assert np.linalg.norm(b1.x - CG) > 1e-4  # the ice moved it
-    one, other = fused.state(), general.state()
-    assert one.keys() == other.keys()
-    for key, value in other.items():
-        assert np.array_equal(one[key], value), key
-    assert np.array_equal(fused.mooring_force, general.mooring_force)
-    assert np.array_equal(fused.fairlead_tensions(), general.fairlead_tensions())
-    assert np.array_equal(fused.poses(), general.poses())  # what rank 0 broadcasts
+    other = general.state()
+    for p in (fused, separate):
+        one = p.state()
+        assert one.keys() == other.keys()
+        for key, value in other.items():
+            assert np.array_equal(one[key], value), key
+        assert np.array_equal(p.mooring_force, general.mooring_force)
+        assert np.array_equal(p.fairlead_tensions(), general.fairlead_tensions())
+        assert np.array_equal(p.poses(), general.poses())  # what rank 0 broadcasts
+
+
+def test_the_general_paths_begin_and_finish_are_its_separate_calls():
+    """Where the fused step does not apply (here: the fused step switched off), begin_step and
+    finish_step are kick + drift and loads + kick, bit for bit, and finish_step returns the tensions."""
+    one, _ = moored_semi()
+    two, _ = moored_semi()
+    one.fused = two.fused = None
+    dt = 2.6e-4
+    ice = np.array([[5e6, 1e6, 0.0, 0.0, 0.0, 1e7]])
+    for p in (one, two):
+        p.loads()
+    for _ in range(20):
+        one.begin_step(0.5 * dt, dt)
+        tensions = one.finish_step(ice, 0.5 * dt)
+        two.kick(0.5 * dt)
+        two.drift(dt)
+        two.loads(ice)
+        two.kick(0.5 * dt)
+        assert np.array_equal(tensions, two.fairlead_tensions())
+    for key, value in two.state().items():
+        assert np.array_equal(one.state()[key], value), key
 
 
 def test_the_fused_step_packs_the_body_once():
