@@ -278,3 +278,24 @@ def sync_mate_history(nlocal, gid, bond_j, bond_mate, bond_hist):
             m = bond_mate[i, s]
             for k in range(bond_hist.shape[2]):
                 bond_hist[j, m, k] = bond_hist[i, s, k]
+
+
+@njit(**JIT)
+def sync_leaving_history(leaving, nlocal, gid, bond_j, bond_mate, bond_hist):
+    """``sync_mate_history`` for the bonds of the owned rows ``leaving`` (indices < nlocal) only:
+    each bond between a leaving row and another owned row gets its lower-gid end's history at both
+    ends. Before a migration this is all that must agree: a bond whose ends both stay owned is read
+    from its lower-gid end alone, here as before; a bond that the migration cuts is then advanced
+    at each end by its own rank, from its own copy (both the lower end's, bit for bit)."""
+    for i in leaving:
+        for s in range(bond_j.shape[1]):
+            j = bond_j[i, s]
+            if j < 0 or j >= nlocal:
+                continue
+            m = bond_mate[i, s]
+            if gid[i] < gid[j]:
+                for k in range(bond_hist.shape[2]):
+                    bond_hist[j, m, k] = bond_hist[i, s, k]
+            else:
+                for k in range(bond_hist.shape[2]):
+                    bond_hist[i, s, k] = bond_hist[j, m, k]

@@ -9,6 +9,31 @@ GHOST_DOUBLES = 9  # doubles per ghost record sent every step: x, v, w (3 each)
 
 
 @njit(**JIT)
+def _cell(cuts, value, cells):
+    """The cell of ``value`` between ``cuts`` (sorted), as clip(searchsorted(cuts, value, "right") - 1,
+    0, cells - 1): the number of cuts at or below it, less one; NaN beyond the last."""
+    if value != value:
+        return cells - 1
+    k = 0
+    for c in range(len(cuts)):
+        if cuts[c] <= value:
+            k += 1
+    return min(max(k - 1, 0), cells - 1)
+
+
+@njit(**JIT)
+def owner_ranks(x, y, x_cuts, y_cuts):
+    """The rank owning each point (x [m], y [m]) of a decomposition into columns between ``x_cuts``
+    (px + 1,) and, in column c, rows between ``y_cuts[c]`` (py + 1,): rank = column * py + row."""
+    px, py = len(x_cuts) - 1, y_cuts.shape[1] - 1
+    out = np.empty(len(x), np.int64)
+    for i in range(len(x)):
+        col = _cell(x_cuts, x[i], px)
+        out[i] = col * py + _cell(y_cuts[col], y[i], py)
+    return out
+
+
+@njit(**JIT)
 def pack_kinematics(x, v, w, idx, out):
     """out[GHOST_DOUBLES k : GHOST_DOUBLES (k + 1)] = (x, v, w) of particle idx[k]."""
     for k in range(len(idx)):

@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..kernels.halo import owner_ranks
+
 
 def grid_shape(size: int, *, lx: float, ly: float) -> tuple[int, int]:
     """(px, py) with px * py = size whose cells are closest to square for an lx x ly domain."""
@@ -47,13 +49,9 @@ class Decomposition:
         return self.px * self.py
 
     def owner(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Rank owning each point (vectorised)."""
-        col = np.clip(np.searchsorted(self.x_cuts, x, side="right") - 1, 0, self.px - 1)
-        row = np.empty(len(x), dtype=np.int64)
-        for c in range(self.px):
-            sel = col == c
-            row[sel] = np.clip(np.searchsorted(self.y_cuts[c], y[sel], side="right") - 1, 0, self.py - 1)
-        return col * self.py + row
+        """Rank owning each point (x, y [m]; kernels/halo.owner_ranks)."""
+        return owner_ranks(np.asarray(x, float), np.asarray(y, float), np.asarray(self.x_cuts, float),
+                           np.asarray(self.y_cuts, float))
 
     def box(self, rank: int) -> tuple[float, float, float, float]:
         """(xlo, xhi, ylo, yhi) of a rank's subdomain [m]."""

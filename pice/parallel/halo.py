@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ..errors import PiceError
-from ..kernels.bonds import sync_mate_history
+from ..kernels.bonds import sync_leaving_history
 from ..kernels.halo import (GHOST_DOUBLES, longest_bond, motion_bounds, pack_kinematics,
                             resolve_bond_partners, unpack_kinematics)
 from ..state import PER_PARTICLE
@@ -115,32 +115,38 @@ class Halo:
         """Migrate owned particles to their owners, then gather fresh ghosts and resolve bonds."""
         comm = self.comm
         if comm.size > 1:
-            sync_mate_history(p.nlocal, p.gid, p.bond_j, p.bond_mate, p.bond_hist)
             n = p.nlocal
             owner = self.decomp.owner(p.x[:n, 0], p.x[:n, 1])
             mine = owner == comm.rank
             leaving = not mine.all()
+            if leaving:  # the histories the rows that leave take, and leave behind, agree at both ends
+                sync_leaving_history(np.nonzero(~mine)[0], n, p.gid, p.bond_j, p.bond_mate, p.bond_hist)
             keep = np.nonzero(mine)[0] if leaving else np.arange(n)
             outgoing = [p.rows(np.nonzero(owner == r)[0]) if r != comm.rank and leaving else None
                         for r in range(comm.size)]
             incoming = comm.alltoall(outgoing)
             blocks = [blk for r, blk in enumerate(incoming) if r != comm.rank and blk is not None and len(blk["gid"])]
             arrivals = {k: np.concatenate([blk[k] for blk in blocks]) for k in blocks[0]} if blocks else None
-            # owned particles in gid order: the layout is then the same whatever the history. Where
-            # each kept and each arriving row goes (the inverse of the stable sort of their gids)
-            gids = p.gid[keep] if arrivals is None else np.concatenate([p.gid[keep], arrivals["gid"]])
-            nlocal = len(gids)
-            dest = np.empty(nlocal, np.int64)
-            dest[np.argsort(gids, kind="stable")] = np.arange(nlocal)
-            keep_to, arrive_to = dest[:len(keep)], dest[len(keep):]
-            x = np.empty((nlocal, 3))
-            x[keep_to] = p.x[keep]
-            if arrivals is not None:
-                x[arrive_to] = arrivals["x"]
+            gid = p.gid[:n]
+            if arrivals is None and not leaving and bool(np.all(gid[1:] > gid[:-1])):
+                # nobody crossed a cut and the rows are in gid order already: they stay where they are
+                nlocal, keep_to, arrive_to, x, take = n, keep, keep[:0], p.x[:n], p.rows
+            else:
+                # owned particles in gid order: the layout is then the same whatever the history. Where
+                # each kept and each arriving row goes (the inverse of the stable sort of their gids)
+                gids = p.gid[keep] if arrivals is None else np.concatenate([p.gid[keep], arrivals["gid"]])
+                nlocal = len(gids)
+                dest = np.empty(nlocal, np.int64)
+                dest[np.argsort(gids, kind="stable")] = np.arange(nlocal)
+                keep_to, arrive_to = dest[:len(keep)], dest[len(keep):]
+                x = np.empty((nlocal, 3))
+                x[keep_to] = p.x[keep]
+                if arrivals is not None:
+                    x[arrive_to] = arrivals["x"]
+                take = _MergedRows(p, keep, keep_to, arrivals, arrive_to, nlocal).take
             targets = self._ghost_targets(x)
             self.send_idx = targets
-            rows = _MergedRows(p, keep, keep_to, arrivals, arrive_to, nlocal)
-            ghost_blocks = comm.alltoall([rows.take(idx) if len(idx) else None for idx in targets])
+            ghost_blocks = comm.alltoall([take(idx) if len(idx) else None for idx in targets])
             self.recv_counts = [len(b["gid"]) if b is not None else 0 for b in ghost_blocks]
             p.place_rows(keep, keep_to, arrivals, arrive_to, nlocal, [b for b in ghost_blocks if b is not None])
         self.resolve(p)

@@ -44,3 +44,23 @@ def test_balanced_cuts_split_the_weight_evenly():
     d = balanced_from_histograms(3, 2, hx, edges_x, hy, edges_y)
     counts = np.bincount(d.owner(x, y), minlength=6)
     assert counts.max() / counts.mean() < 1.02
+
+
+@pytest.mark.parametrize("size", [2, 6, 8])
+def test_owner_is_the_searchsorted_rule_on_and_off_the_cuts(size):
+    """Decomposition.owner (kernels/halo.owner_ranks, a loop) gives the rule it replaced:
+    clip(searchsorted(cuts, value, "right") - 1) per axis, so a point on a cut belongs to the cell
+    above it, points beyond the outer cuts to the outer cells, and a NaN to the last cell."""
+    d = uniform(size, lo=(0.0, 0.0), hi=(400.0, 200.0))
+    rng = np.random.default_rng(size)
+    x = np.concatenate([rng.uniform(-50, 450, 3000), d.x_cuts[1:-1], [-np.inf, np.inf, np.nan, 1e300]])
+    y = np.concatenate([rng.uniform(-50, 250, 3000), np.resize(d.y_cuts[0][1:-1], d.px - 1) if d.py > 1
+                        else rng.uniform(0, 200, d.px - 1), [0.0, 1.0, 2.0, np.nan]])
+    col = np.clip(np.searchsorted(d.x_cuts, x, side="right") - 1, 0, d.px - 1)
+    row = np.empty(len(x), np.int64)
+    for c in range(d.px):
+        sel = col == c
+        row[sel] = np.clip(np.searchsorted(d.y_cuts[c], y[sel], side="right") - 1, 0, d.py - 1)
+    assert np.array_equal(d.owner(x, y), col * d.py + row)
+    strided = np.stack([x, y, x], axis=1)  # as the halo asks: columns of the particles' (n, 3) positions
+    assert np.array_equal(d.owner(strided[:, 0], strided[:, 1]), col * d.py + row)

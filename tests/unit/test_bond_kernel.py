@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from pice.job import parse_job
-from pice.kernels.bonds import bond_forces, sync_mate_history
+from pice.kernels.bonds import bond_forces, sync_leaving_history, sync_mate_history
 from pice.kernels.bonds import MOHR_COULOMB, ZHU_JI_EQ5
 from pice.physics.bond import BondLaw
 from pice.physics.bond_calibration import bond_params_from_job, eq6_bond_strength, eq7_bond_friction
@@ -239,3 +239,34 @@ def test_turned_history_keeps_its_length_and_leaves_the_plane():
             b = np.array(_turned(*a, *n))
             assert abs(b @ n) <= 1e-12 * np.linalg.norm(a)
             assert np.linalg.norm(b) == pytest.approx(np.linalg.norm(a), rel=4e-16 * 8)
+
+
+def test_a_migration_syncs_the_bonds_of_the_leaving_rows_from_their_lower_gid_ends():
+    """parallel/halo.py syncs before a migration only the bonds of the rows that leave
+    (sync_leaving_history): both ends of each such bond get the lower-gid end's history, the one the
+    bond kernel advances while both ends are owned; bonds between rows that stay, and bonds to ghosts,
+    are left as they are. Owned rows 0-3 (gids 10, 5, 7, 20) in a chain 0-1-2-3, row 4 a ghost bonded
+    to row 3; row 1 leaves."""
+    gid = np.array([10, 5, 7, 20, 3])
+    nlocal = 4
+    bond_j = np.full((5, MAX_BONDS), -1, np.int32)
+    bond_mate = np.full((5, MAX_BONDS), -1, np.int32)
+    links = [(0, 0, 1, 0), (1, 1, 2, 0), (2, 1, 3, 0), (3, 1, 4, 0)]  # (i, slot, j, slot)
+    for i, si, j, sj in links:
+        bond_j[i, si], bond_j[j, sj] = j, i
+        bond_mate[i, si], bond_mate[j, sj] = sj, si
+    rng = np.random.default_rng(0)
+    hist = rng.normal(size=(5, MAX_BONDS, BOND_HIST))
+    before = hist.copy()
+    sync_leaving_history(np.array([1]), nlocal, gid, bond_j, bond_mate, hist)
+    # 0-1: gid 10 against 5, so row 1's copy goes to row 0; 1-2: gid 5 against 7, row 1's to row 2
+    assert np.array_equal(hist[0, 0], before[1, 0]) and np.array_equal(hist[1, 0], before[1, 0])
+    assert np.array_equal(hist[2, 0], before[1, 1]) and np.array_equal(hist[1, 1], before[1, 1])
+    # 2-3 stay (both owned, neither leaves) and 3-4 (a ghost): untouched
+    for row, slot in ((2, 1), (3, 0), (3, 1), (4, 0)):
+        assert np.array_equal(hist[row, slot], before[row, slot])
+    # what the full sync would give on the leaving row's bonds
+    full = before.copy()
+    sync_mate_history(nlocal, gid, bond_j, bond_mate, full)
+    for row, slot in ((0, 0), (1, 0), (1, 1), (2, 0)):
+        assert np.array_equal(hist[row, slot], full[row, slot])
