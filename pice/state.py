@@ -37,6 +37,19 @@ PER_PARTICLE = ("gid", "x", "v", "w", "radius", "mass", "inertia", "kind", "volu
 ROW_HEADROOM = 1.1  # rows a rebuild allocates per row it needs (Particles.place_rows)
 
 
+RUN_COPY_MIN = 64  # mean rows per run above which place_rows copies runs of rows as slices
+
+
+def _runs(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The maximal runs in which the row indices ``src`` and ``dst`` both advance by one: (src start,
+    dst start, length) of each, so that ``out[dst] = cur[src]`` is a few slice copies."""
+    if len(src) == 0:
+        return src[:0], dst[:0], src[:0]
+    starts = np.concatenate([[0], np.nonzero((np.diff(src) != 1) | (np.diff(dst) != 1))[0] + 1])
+    lengths = np.diff(np.concatenate([starts, [len(src)]]))
+    return src[starts], dst[starts], lengths
+
+
 def _prefix_of(array: np.ndarray, buf: np.ndarray | None) -> bool:
     """Is ``array`` the first rows of ``buf`` (a view that place_rows made and nobody replaced)?"""
     return (buf is not None and array.base is buf
@@ -133,6 +146,10 @@ class Particles:
             and bool(np.all(keep == np.arange(nlocal)))
         total = nlocal + sum(len(g["gid"]) for g in ghosts)
         buffers = self.__dict__.setdefault("_buffers", {})  # name -> the array the rows are a prefix of
+        # the kept rows keep their order (both sides sorted by gid): a migration of a few rows leaves
+        # long runs, copied as slices (docs/performance.md, "The ghost update and the rebuild")
+        runs = None if identity else _runs(keep, keep_to)
+        by_runs = runs is not None and len(runs[2]) * RUN_COPY_MIN <= len(keep)
         for name in PER_PARTICLE:
             cur, buf = getattr(self, name), buffers.get(name)
             if identity and _prefix_of(cur, buf) and len(buf) >= total:
@@ -143,10 +160,13 @@ class Particles:
                 out = buf[:total]
                 if identity:
                     out[:nlocal] = cur[:nlocal]
+                elif by_runs:
+                    for a, d, m in zip(*runs):
+                        out[d:d + m] = cur[a:a + m]
                 else:
                     out[keep_to] = cur[keep]
-                    if arrivals is not None:
-                        out[arrive_to] = arrivals[name]
+                if arrivals is not None:
+                    out[arrive_to] = arrivals[name]
             at = nlocal
             for g in ghosts:
                 out[at:at + len(g["gid"])] = g[name]

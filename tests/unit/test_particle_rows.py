@@ -4,10 +4,12 @@ copy; a rebuild where nobody leaves or arrives writes only the ghosts (the owned
 their memory)."""
 
 import numpy as np
+import pytest
 from scenes import slope_job, job_from_text
 
+from pice import state
 from pice.scenes.level_ice import build_level_ice
-from pice.state import PER_PARTICLE
+from pice.state import PER_PARTICLE, _runs
 
 
 def _sheet():
@@ -21,7 +23,10 @@ def _sheet():
     return p
 
 
-def test_place_rows_lays_out_what_replace_rows_would():
+@pytest.mark.parametrize("run_copy_min", [1, 10**9])
+def test_place_rows_lays_out_what_replace_rows_would(run_copy_min, monkeypatch):
+    """Also whether the kept rows are copied by runs of rows (slices) or by fancy indexing."""
+    monkeypatch.setattr(state, "RUN_COPY_MIN", run_copy_min)
     p, q = _sheet(), _sheet()
     n = p.n
     keep = np.sort(np.random.default_rng(1).choice(n, size=n - 5, replace=False))
@@ -59,3 +64,12 @@ def test_a_rebuild_where_nobody_moves_writes_only_the_ghosts():
     assert not np.shares_memory(p.x, owned_x)
     np.testing.assert_array_equal(p.x[:n], before)
     np.testing.assert_array_equal(p.x[n:], ghosts[0]["x"])
+
+
+def test_runs_of_rows_cover_the_kept_rows_once():
+    """state._runs: the maximal runs in which source and destination rows both advance by one."""
+    keep = np.array([0, 1, 2, 5, 6, 9])
+    keep_to = np.array([0, 1, 3, 4, 5, 6])
+    src, dst, length = _runs(keep, keep_to)
+    assert src.tolist() == [0, 2, 5, 9] and dst.tolist() == [0, 3, 4, 6] and length.tolist() == [2, 1, 2, 1]
+    assert [len(a) for a in _runs(keep[:0], keep_to[:0])] == [0, 0, 0]
