@@ -108,6 +108,7 @@ class Halo:
         self.send_idx: list[np.ndarray] = [np.zeros(0, np.int64) for _ in range(comm.size)]
         self.recv_counts: list[int] = [0] * comm.size  # ghosts from each rank, fixed between rebuilds
         self._pending = None  # a ghost update posted and not yet received
+        self._plan = None  # the ghost updates' buffers and lists, made again after each rebuild
         self.x_ref = None
 
     # -- infrequent: migration and ghost rebuild -----------------------------------------------
@@ -215,17 +216,30 @@ class Halo:
         Work on owned elements may go on until ``finish_update``."""
         if self.comm.size == 1:
             return
+        if self._pending is not None:  # its send buffer is about to be packed again
+            raise RuntimeError("a ghost update was posted before the previous one was received (finish_update)")
+        plan = self._plan
+        if plan is None or plan[0] is not self.send_idx:
+            plan = self._plan = self._plan_update()
+        _, idx, buf, sends, recvs = plan
+        pack_kinematics(p.x, p.v, p.w, idx, buf)
+        self._pending = self.comm.start_neighbour_exchange(sends, recvs)
+
+    def _plan_update(self) -> tuple:
+        """What every ghost update until the next rebuild sends and receives (the lists are fixed
+        between rebuilds): (send_idx it was made for, the rows packed, the send buffer, [(rank, its
+        part of the buffer)], [(rank, doubles to receive)]). The buffer is reused: the previous
+        update has been received (``finish_update``) before the next is posted."""
         counts = [len(i) for i in self.send_idx]
         idx = np.concatenate(self.send_idx) if sum(counts) else np.zeros(0, np.int64)
         buf = np.empty(GHOST_DOUBLES * len(idx))
-        pack_kinematics(p.x, p.v, p.w, idx, buf)
         sends, start = [], 0
         for r, n in enumerate(counts):
             if n:
                 sends.append((r, buf[start:start + GHOST_DOUBLES * n]))
                 start += GHOST_DOUBLES * n
         recvs = [(r, GHOST_DOUBLES * n) for r, n in enumerate(self.recv_counts) if n]
-        self._pending = self.comm.start_neighbour_exchange(sends, recvs)
+        return self.send_idx, idx, buf, sends, recvs
 
     @property
     def pending(self) -> bool:
