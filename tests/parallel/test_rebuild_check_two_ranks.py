@@ -75,3 +75,29 @@ def test_a_fast_accelerating_sheet_rebuilds_on_the_same_steps_with_the_same_bits
     assert every.p.n == n and every.p.nlocal == bounded.p.nlocal
     for name in ("gid", "x", "v", "w"):
         assert np.array_equal(getattr(bounded.p, name)[:n], getattr(every.p, name)[:n]), name
+
+
+def test_the_ghost_update_reuses_its_buffer_and_refuses_a_second_post():
+    """Halo.start_update packs into one send buffer kept from the rebuild (Halo._plan_update): a
+    second post before the first has been received would overwrite a message in flight, and is
+    refused; after a rebuild the plan is made again, for the new ghost lists, and the ghosts received
+    are the owners' current positions."""
+    comm = need_two_ranks()
+    sim, _ = reference_sheet(length=12.0, width=6.0, broken=3, comm=comm)
+    halo, p = sim.domain.halo, sim.p
+    halo.start_update(p)
+    with pytest.raises(RuntimeError, match="before the previous one was received"):
+        halo.start_update(p)
+    halo.finish_update(p)
+    buffer = halo._plan[2]
+    halo.update(p)
+    assert halo._plan[2] is buffer  # the same buffer, step after step
+    p.x[:p.nlocal, 0] += 0.01  # every owner moves; its ghosts on the other rank follow at the update
+    halo.rebuild(p)
+    halo.update(p)
+    assert halo._plan[0] is halo.send_idx and halo._plan[2] is not buffer  # planned again after the rebuild
+    ghosts = comm.comm.allgather(dict(zip(p.gid[p.nlocal:p.n].tolist(), p.x[p.nlocal:p.n].tolist())))
+    owned = dict(zip(p.gid[:p.nlocal].tolist(), p.x[:p.nlocal].tolist()))
+    other = ghosts[1 - comm.rank]  # the other rank's ghosts of this rank's elements
+    assert other and set(other) <= set(owned)
+    assert all(owned[g] == x for g, x in other.items())
