@@ -67,8 +67,8 @@ def test_the_hull_term_waits_for_the_poses_after_the_bonds():
     """Rank 0 posts the ghosts' update before it steps the platform, and the poses' broadcast after
     it, received only after the bonds and contacts: the other ranks compute their bonds while rank 0
     steps the platform. Recorded on the moored barge (tests/scenes.py): within a step, the ghosts'
-    update posted, the platform's step, start of the broadcast, then the bonds, then its wait, then
-    the hull term."""
+    update posted, the platform's kick and drift, start of the broadcast, then the bonds, then its
+    wait, then the hull term, and last the platform's loads and closing kick with the ice loads."""
     from scenes import barge_job, job_from_text
 
     sim = Simulation(job_from_text(barge_job(mooring="dem")))
@@ -89,11 +89,13 @@ def test_the_hull_term_waits_for_the_poses_after_the_bonds():
     sim.comm = type("Recording", (), {"__getattr__": lambda _, k: getattr(comm, k),
                                       "start_bcast_array": lambda _, a: calls.append("post poses") or start(a),
                                       "finish_bcast_array": lambda _, q: calls.append("wait poses") or finish(q)})()
-    exchange, drift = sim.domain.exchange, sim.platform.drift
+    exchange, begin, finish_step = sim.domain.exchange, sim.platform.begin_step, sim.platform.finish_step
     sim.domain.exchange = lambda *a, **k: calls.append("post ghosts") or exchange(*a, **k)
-    sim.platform.drift = lambda *a, **k: calls.append("platform drift") or drift(*a, **k)
+    sim.platform.begin_step = lambda *a, **k: calls.append("platform drift") or begin(*a, **k)
+    sim.platform.finish_step = lambda *a, **k: calls.append("platform loads") or finish_step(*a, **k)
     sim.advance(1)
     # the ghosts' update does not wait for rank 0's platform: it carries the ice's drift only
     assert calls.index("post ghosts") < calls.index("platform drift") < calls.index("post poses")
     assert calls.index("post poses") < calls.index("bonds") < calls.index("wait poses") < calls.index("hull contact")
+    assert calls.index("hull contact") < calls.index("platform loads") and calls.count("platform loads") == 1
     assert "hull contact" in [t.name for t in sim.terms] and calls.count("hull contact") == 1
