@@ -125,6 +125,7 @@ class FusedStep:
         self.inertia = b.effective_inertia              # with the added inertia [kg m^2]
         self.free = np.ones(1, np.bool_)
         self.no_waves = self.group.lines._no_waves
+        self.tensions = np.zeros(len(self.group.lines.fairleads))  # the step's fairlead tensions [N] (finish_step)
         self.pack()
 
     @staticmethod
@@ -201,7 +202,9 @@ class FusedStep:
         self._bound()
         body_loads(*self._loads_args(ice, total))
 
-    def finish_step(self, ice: np.ndarray, total: np.ndarray, tensions: np.ndarray, half_dt: float) -> None:
-        """``loads``, the fairlead tensions [N] into ``tensions`` and Platform.kick(half_dt) [s] in one kernel call."""
+    def finish_step(self, ice: np.ndarray, total: np.ndarray, half_dt: float) -> np.ndarray:
+        """``loads`` and Platform.kick(half_dt) [s] in one kernel call; returns the fairlead tensions
+        [N] (``self.tensions``, written again at the next step)."""
         self._bound()
-        loads_and_kick(*self._loads_args(ice, total), tensions, self.mass, half_dt)
+        loads_and_kick(*self._loads_args(ice, total), self.tensions, self.mass, half_dt)
+        return self.tensions

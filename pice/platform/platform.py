@@ -95,7 +95,6 @@ class Platform:
         self.mooring_force = np.zeros((len(bodies), 3))  # pull of all lines on each body [N]
         # one free body on one group of DEM lines in still water: two compiled calls a step (fused_step.py)
         self.fused = FusedStep(self) if FusedStep.applies(self) else None
-        self._tensions = np.zeros(self.n_lines)  # the fairlead tensions of the step (finish_step) [N]
 
     @property
     def moorings(self):
@@ -142,8 +141,7 @@ class Platform:
         path. The array is reused by the next step."""
         self.ice = np.asarray(ice, float).reshape(len(self.bodies), 6)
         if self.fused is not None:
-            self.fused.finish_step(self.ice, self.mooring_force, self._tensions, half_dt)
-            return self._tensions
+            return self.fused.finish_step(self.ice, self.mooring_force, half_dt)
         self.loads()
         tensions = self.fairlead_tensions()
         self.kick(half_dt)
