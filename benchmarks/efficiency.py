@@ -9,9 +9,12 @@ A round runs, for each tree in turn, 1 rank then R ranks (one launch at a time: 
 measure each other). The efficiency of a pair is the R-rank throughput over R times the 1-rank
 throughput of the same round, so that a machine whose speed drifts between rounds moves both. Each
 tree runs with its own code (PYTHONPATH) in this interpreter's environment. Printed per round and per
-tree: the two throughputs [particle-steps/s], the efficiency and the R-rank waits for the ghost
-update (median / 90th percentile, the rank that waits most); then each tree's median efficiency. The
-JSON of every launch stays in --out.
+tree: the two throughputs [particle-steps/s], the efficiency, the efficiency of the median blocks
+(`pice bench`'s "median block": the step's cost over blocks of 10 steps with the rare long pauses of
+a shared machine left out, which on R ranks stall every rank) and the R-rank waits for the ghost
+update (median / 90th percentile, the rank that waits most); then each tree's median efficiencies.
+The issue's figure is the first; the second tells the code's cost from the machine's interruptions.
+The JSON of every launch stays in --out.
 """
 
 from __future__ import annotations
@@ -73,8 +76,9 @@ def main(argv=None) -> dict:
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     eff = {str(t): [] for t in trees}
-    print(f"{'round':>5}  {'tree':<40} {'1 rank':>10} {f'{args.ranks} ranks':>10} {'efficiency':>10}  "
-          "ghost wait (median / p90)")
+    robust = {str(t): [] for t in trees}
+    print(f"{'round':>5}  {'tree':<40} {'1 rank':>10} {f'{args.ranks} ranks':>10} {'efficiency':>10} "
+          f"{'median block':>12}  ghost wait (median / p90)")
     for r in range(1, args.rounds + 1):
         for k, t in enumerate(trees):
             one = bench(t, 1, args, out / f"tree{k}_1r_round{r}.json")
@@ -83,11 +87,16 @@ def main(argv=None) -> dict:
             b = many["sheet"]["particle_steps_per_second"]
             e = b / (args.ranks * a)
             eff[str(t)].append(e)
+            ma = one["sheet"].get("median_block_particle_steps_per_second")  # absent before 2026-12-05
+            mb = many["sheet"].get("median_block_particle_steps_per_second")
+            m = mb / (args.ranks * ma) if ma and mb else float("nan")
+            robust[str(t)].append(m)
             commit = (many["code"]["commit"] or "no git")[:10] + ("+" if many["code"].get("dirty") else "")
-            print(f"{r:>5}  {str(t)[-29:] + ' ' + commit:<40} {a:>10.3e} {b:>10.3e} {e:>10.3f}  {waits(many)}",
+            print(f"{r:>5}  {str(t)[-29:] + ' ' + commit:<40} {a:>10.3e} {b:>10.3e} {e:>10.3f} {m:>12.3f}  {waits(many)}",
                   flush=True)
     for t, values in eff.items():
-        print(f"median efficiency {statistics.median(values):.3f} over {len(values)} round(s): {t}")
+        print(f"median efficiency {statistics.median(values):.3f} over {len(values)} round(s) "
+              f"(of the median blocks: {statistics.median(robust[t]):.3f}): {t}")
     return {t: statistics.median(v) for t, v in eff.items()}
 
 

@@ -12,28 +12,51 @@ from __future__ import annotations
 import pathlib
 from time import perf_counter
 
+import numpy as np
+
 
 def window(sim, steps: int, *, out=None, every: int = 0) -> dict:
     """Advance ``steps`` steps from a barrier; with ``out`` (io.output.RunOutput) a series row and the
     events every ``every`` steps, as a run writes them. Returns {"wall_s": the slowest rank's wall
-    time [s], "rank_s": this rank's}; with timers on, ``sim.timers`` holds the window's split."""
+    time [s], "rank_s": this rank's, "block_ms": this rank's wall time per step [ms] of each block};
+    with timers on, ``sim.timers`` holds the window's split.
+
+    The steps are taken in blocks of the health check's interval (``run.check_every``: a block ends
+    with its check, as in a long ``advance``), and the clock is read between blocks only (one read per
+    ``check_every`` steps, none in the step). The median block (``block_median``) is the step's cost
+    with the rare long pauses left out: a process preempted for milliseconds by another on a shared
+    machine stretches the mean of a window, and on several ranks makes every other rank wait for it."""
     comm, timers = sim.comm, sim.timers
+    block = max(int(sim.job.run.check_every), 1)
     comm.barrier()
     t0 = perf_counter()
     if timers is not None:
         timers.start()
-    left = steps
+    left, blocks, last = steps, [], t0
     while left > 0:
-        n = left if out is None else min(every - sim.c.step % every, left)
+        n = min(block, left) if out is None else min(every - sim.c.step % every, block, left)
         sim.advance(n)
         left -= n
+        now = perf_counter()
+        blocks.append((now - last) / n * 1e3)
+        last = now
         if out is not None and sim.c.step % every == 0:
             out.series()
             out.events()
             if timers is not None:
                 timers.lap("output")
+            last = perf_counter()  # the row's time is not a step's
     mine = perf_counter() - t0
-    return {"wall_s": float(comm.max(mine)), "rank_s": mine}
+    return {"wall_s": float(comm.max(mine)), "rank_s": mine, "block_ms": blocks}
+
+
+def block_median(comm, plain: dict) -> float | None:
+    """The median over a window's blocks of the slowest rank's wall time per step [ms] (``window``),
+    on rank 0 (None elsewhere; collective)."""
+    per_rank = comm.gather(np.asarray(plain["block_ms"]))
+    if per_rank is None:
+        return None
+    return float(np.median(np.max(np.stack(per_rank), axis=0)))
 
 
 def plain_and_timed(sim, steps: int, *, out=None, every: int = 0) -> tuple[dict, dict | None]:
@@ -71,6 +94,7 @@ def measure_sheet(comm, *, steps: int, warmup: int, length: float, width: float,
     n = _elements(sim)
     bonds = int(comm.sum(sim.p.bond_count()))
     plain, split = plain_and_timed(sim, steps)
+    median = block_median(comm, plain)
     if comm.rank != 0:
         return None
     rate = n * steps / plain["wall_s"] if plain["wall_s"] > 0 else 0.0
@@ -79,6 +103,8 @@ def measure_sheet(comm, *, steps: int, warmup: int, length: float, width: float,
             "dt": sim.dt, "dt_stable": sim.limit.stable, "setup_and_warmup_s": setup, "warmup_steps": warmup,
             "steps": steps, "wall_s": plain["wall_s"], "ms_per_step": plain["wall_s"] / max(steps, 1) * 1e3,
             "particle_steps_per_second": rate, "particle_steps_per_second_per_rank": rate / comm.size,
+            "block_steps": int(sim.job.run.check_every), "median_block_ms_per_step": median,
+            "median_block_particle_steps_per_second": n / (median * 1e-3) if median else 0.0,
             "split": split}
 
 

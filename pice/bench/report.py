@@ -64,6 +64,10 @@ def report_lines(result: dict) -> list[str]:
                   f"dt {s['dt']:.4g} s, {s['steps']} steps after {s['warmup_steps']}",
                   f"  throughput    {s['particle_steps_per_second']:.4g} particle-steps/s "
                   f"({s['particle_steps_per_second_per_rank']:.4g} per rank), {s['ms_per_step']:.3f} ms/step"]
+        if s.get("median_block_ms_per_step"):
+            lines.append(f"  median block  {s['median_block_ms_per_step']:.3f} ms/step "
+                         f"({s['median_block_particle_steps_per_second']:.4g} particle-steps/s): the median over "
+                         f"blocks of {s['block_steps']} steps, the rare long pauses of a shared machine left out")
         lines += _split_lines(s["split"])
     f = result.get("full")
     if f:

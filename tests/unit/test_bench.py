@@ -81,6 +81,9 @@ def test_bench_writes_the_figures_the_machine_and_a_split_that_adds_up(tmp_path,
         assert split["ghost_wait_ms"] == [None]  # one rank receives no ghost update
     assert full["split"]["parts"]["platform"]["ms_per_step"] > 0 and full["split"]["parts"]["output"]["ms_per_step"] > 0
     assert sheet["split"]["parts"]["output"]["ms_per_step"] == 0.0  # the sheet writes nothing
+    # the plain window in blocks of check_every (10) steps: 6 steps are one block of 6, two clock reads
+    assert sheet["block_steps"] == 10 and sheet["median_block_ms_per_step"] == pytest.approx(1.0 / 6)
+    assert sheet["median_block_particle_steps_per_second"] == pytest.approx(sheet["elements"] * 6e3)
     assert result["json"] == str(out) and not (tmp_path / "bench_scratch.h5").exists()
     text = "\n".join(report_lines(result))
     assert "particle-steps/s" in text and "per simulated second" in text and "platform" in text
@@ -135,6 +138,21 @@ def test_the_plain_step_reads_no_clock_and_the_timed_step_gives_its_numbers_bit_
     reads.clear()
     timed.advance(3)
     assert reads == [] and timed.timers is None and "step" not in vars(timed)
+
+
+def test_the_median_block_leaves_out_a_preempted_block_and_takes_the_slowest_rank():
+    """bench.measure.block_median: the median over blocks of the slowest rank's ms per step. One block
+    stretched 50 times (a process preempted on a shared machine) moves the mean, not the median."""
+    from pice.parallel.comm import SerialComm
+
+    blocks = [1.0, 1.1, 50.0, 0.9, 1.05]
+    assert pice.bench.measure.block_median(SerialComm(), {"block_ms": blocks}) == pytest.approx(1.05)
+
+    class TwoRanks(SerialComm):  # rank 1's blocks, gathered on rank 0 after its own
+        def gather(self, obj):
+            return [obj, np.array([1.2, 1.0, 1.0, 1.0, 1.0])]
+
+    assert pice.bench.measure.block_median(TwoRanks(), {"block_ms": blocks}) == pytest.approx(1.1)
 
 
 def test_the_efficiency_script_pairs_one_and_two_rank_runs_of_each_tree(tmp_path, capsys):
