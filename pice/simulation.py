@@ -345,16 +345,14 @@ class Simulation:
         ratio, i, nonfinite = max_step_displacement(p.nlocal, p.v, p.w, p.radius, self.dt)
         bad = 1.0 if (nonfinite or ratio > RUNAWAY_STEP_FRACTION) else 0.0
         crushed = crushed_through(p) if self.job.crushing is not None else ()
-        longest = self.domain.halo.local_longest_bond(p)  # [m], before any removal: never shorter than after
         if timers is not None:
             timers.lap("checks")
-        flags = self.comm.max(np.array([bad, 1.0 if len(crushed) else 0.0, longest]))  # the one reduction
+        flags = self.comm.max(np.array([bad, 1.0 if len(crushed) else 0.0]))  # the one reduction
         if timers is not None:
             timers.lap("waiting")
         if flags[0] == 0.0:
             if flags[1]:
                 self._remove_crushed(crushed)
-            self.domain.halo.refuse_long_bond(float(flags[2]))
             if timers is not None:
                 timers.lap("checks")
             return

@@ -168,14 +168,20 @@ class Halo:
         return out
 
     def resolve(self, p) -> None:
-        """Local indices of bond partners; a partner missing from owned + ghosts is an error."""
+        """Local indices of bond partners; a partner missing from owned + ghosts is an error, and so is
+        a bond longer than ghost_width - skin: before the next rebuild its ends may move apart by up to
+        the skin (each by half of it, or a rebuild comes first), and then its partner would be lost.
+        One reduction of two doubles (the rebuild is rare: nothing is checked between rebuilds, when
+        the ghosts hold every partner found here)."""
         missing, who, partner = resolve_bond_partners(p.gid, p.nlocal, p.bond_gid, p.bond_j)
-        missing = self.comm.sum(int(missing))
-        if missing:
+        longest = float(longest_bond(p.x, p.nlocal, p.bond_j)) if self.comm.size > 1 else 0.0
+        worst_missing, worst_longest = self.comm.max(np.array([float(missing), longest]))
+        if worst_missing:
             raise GhostWidthError(
-                f"{missing} bond partner(s) not found within the ghost width {self.ghost_width:.4g} m "
-                f"(e.g. element gid {who} -> gid {partner}): a bond is stretched beyond the halo; "
-                "raise [parallel] skin or check for a runaway element")
+                f"bond partner(s) not found within the ghost width {self.ghost_width:.4g} m (up to "
+                f"{int(worst_missing)} on a rank; here: {missing}, e.g. element gid {who} -> gid {partner}): a "
+                "bond is stretched beyond the halo; raise [parallel] skin or check for a runaway element")
+        self.refuse_long_bond(float(worst_longest))
 
     # -- every step ----------------------------------------------------------------------------
     def needs_rebuild(self, p, timers=None) -> bool:
@@ -257,14 +263,6 @@ class Halo:
         for b in bufs:
             unpack_kinematics(b, p.x, p.v, p.w, start)
             start += len(b) // GHOST_DOUBLES
-
-    def local_longest_bond(self, p) -> float:
-        """Length [m] of this rank's longest intact bond (0 on one rank, where nothing can be lost).
-
-        The health check reduces it with its own flags (one reduction), then ``refuse_long_bond``."""
-        if self.comm.size == 1:
-            return 0.0
-        return float(longest_bond(p.x, p.nlocal, p.bond_j))
 
     def refuse_long_bond(self, longest: float) -> None:
         """A bond longer [m] than ghost_width - skin could lose its partner at the next rebuild."""

@@ -196,3 +196,39 @@ def test_ranks_that_would_round_differently_are_refused(comm, monkeypatch):
         C.refuse_mixed_arithmetic(comm)
     monkeypatch.setattr(C, "compiles_fused_multiply_add", lambda: False)
     C.refuse_mixed_arithmetic(comm)
+
+
+def test_a_bond_the_halo_could_lose_stops_the_run_at_the_rebuild_on_every_rank(comm):
+    """parallel/halo.py Halo.resolve, at every rebuild: a bond longer than ghost_width - skin (its ends
+    may move apart by the skin before the next rebuild, and its partner would leave the halo unseen)
+    and a partner beyond the halo already stop the run on both ranks (one reduction), each with a
+    GhostWidthError that names the length or the missing partner and the fix. The sheet's bonds are
+    1 m long; the threshold is 1.068 m (Table 4's breaking stretch; domain.ghost_width)."""
+    from pice.parallel.halo import GhostWidthError
+
+    sim = Simulation(_small_sheet({"balance_every": 0}), comm=comm)
+    p, halo = sim.p, sim.domain.halo
+    limit = halo.ghost_width - halo.skin
+    halo.rebuild(p)  # the sheet as built passes
+    if comm.rank == 0:  # an element 2 m or more from the cut, pulled from an owned partner to 0.05 m past the limit
+        cut = sim.domain.decomp.x_cuts[1]
+        i = next(k for k in range(p.nlocal) if cut - p.x[k, 0] > 2.0 and (p.bond_j[k] >= 0).any())
+        j = int(p.bond_j[i][p.bond_j[i] >= 0][0])
+        d = p.x[i] - p.x[j]
+        p.x[i] = p.x[j] + d / np.linalg.norm(d) * (limit + 0.05)
+    with pytest.raises(GhostWidthError, match=r"a bond is stretched to 1\.1\d* m, beyond the ghost width .* "
+                                              r"less the skin .*raise \[parallel\] skin"):
+        halo.rebuild(p)
+
+    sim = Simulation(_small_sheet({"balance_every": 0}), comm=comm)
+    p, halo = sim.p, sim.domain.halo
+    gid = None
+    if comm.rank == 0:  # a bond across the cut: its partner on rank 1 is a ghost here
+        i = next(k for k in range(p.nlocal) if (p.bond_j[k] >= p.nlocal).any())
+        gid = int(p.gid[p.bond_j[i][p.bond_j[i] >= p.nlocal][0]])
+    gid = comm.bcast(gid)
+    if comm.rank == 1:  # rank 1 moves that partner 3 m further into its side: out of rank 0's halo
+        p.x[np.nonzero(p.gid[:p.nlocal] == gid)[0][0], 0] += 3.0
+    with pytest.raises(GhostWidthError, match=r"bond partner\(s\) not found within the ghost width .*"
+                                              r"raise \[parallel\] skin"):
+        halo.rebuild(p)

@@ -60,8 +60,8 @@ def test_a_slow_sheet_checks_far_less_than_every_step():
     check = rows[("allreduce", "Halo.needs_rebuild")]
     assert check["calls"] < steps / 10, check  # the sheet moves ~1 m/s: 0.15 m takes ~160 steps, capped at 50
     assert check["bytes"] == 24 * check["calls"]  # 3 doubles a check, as a numpy buffer (not pickled)
-    health = rows[("allreduce", "Simulation.check_health")]  # one reduction: flags and the longest bond
-    assert health["calls"] == steps // sim.job.run.check_every and health["bytes"] == 24 * health["calls"]
+    health = rows[("allreduce", "Simulation.check_health")]  # one reduction: the runaway and crushed flags
+    assert health["calls"] == steps // sim.job.run.check_every and health["bytes"] == 16 * health["calls"]
     assert not any(caller.startswith("Halo.check_bond") for _, caller in rows)
 
 
