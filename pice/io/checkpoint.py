@@ -13,6 +13,8 @@ Layout::
     /walls/total     (n_walls, 6) the reduced ice loads of the last step (when the job has walls)
     /platform/       rank 0's bodies (body<k>/x, v, q, L, force, torque), mooring lines
                      (group<k>/...), the ice loads of the last step and the bodies' clock
+    /peaks/          rank 0's sums and extremes of the body loads since the last series row (n, ice_sum,
+                     ice_max, ice_min, tension_max; absent when the checkpoint falls on a row)
     /far_field/      shift, velocity of a finite far field (ice.push.far_field_length)
 
 Rank 0 writes ``path + ".tmp"``, flushes and fsyncs it, then renames it over ``path``: a run killed
@@ -178,6 +180,8 @@ def _write_file(sim, tmp: pathlib.Path, gid, order, parts, counters, events, flo
         if sim.platform is not None:  # rank 0's bodies and lines
             for name, value in sim.platform.state().items():
                 f[f"platform/{name}"] = np.asarray(value)
+            for name, value in sim.peaks.state().items():  # the loads' mean and extremes since the last row
+                f[f"peaks/{name}"] = np.asarray(value)
         for name, value in (floes or {}).items():  # every floe: state and contact histories
             f[f"floes/{name}"] = np.asarray(value)
         if sim.boundary_term is not None:  # a finite far field's shift and speed (the same on every rank)
@@ -247,6 +251,7 @@ def read_checkpoint(path) -> dict:
                 events={n: f["events"][n][()] for n in EVENT_FIELDS},
                 wall_total=f["walls/total"][()] if "walls/total" in f else None,
                 platform=_platform_state(f),
+                peaks={k: v[()] for k, v in f["peaks"].items()} if "peaks" in f else None,
                 floes={k: v[()] for k, v in f["floes"].items()} if "floes" in f else None,
                 far_field={k: v[()] for k, v in f["far_field"].items()} if "far_field" in f else None)
     except CheckpointError:

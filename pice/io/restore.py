@@ -59,6 +59,7 @@ def restore(sim, data) -> None:
             raise CheckpointError(f"{where}: holds no bodies, but {job.source} has [[bodies]]")
         sim.platform.set_state(state)
         sim.body_total = sim.platform.ice.copy()
+        sim.peaks.set_state(data.get("peaks"))  # the next series row's mean over all its steps
     if sim.hulls:
         sim.broadcast_poses()
     if sim.floes is not None:

@@ -46,6 +46,17 @@ class Peaks:
         d["n"] += 1
         _track(ice, tension, d["ice_sum"], d["ice_max"], d["ice_min"], d["tension_max"])
 
+    def state(self) -> dict[str, np.ndarray]:
+        """The sums and extremes so far as arrays for a checkpoint ({} when nothing was tracked), so that
+        a restart between two series rows gives the next row the mean and extremes of all its steps."""
+        return {} if self.data is None else {k: np.asarray(v).copy() for k, v in self.data.items()}
+
+    def set_state(self, s: dict | None) -> None:
+        self.data = None
+        if s:
+            self.data = {k: np.asarray(v, float).copy() for k, v in s.items() if k != "n"}
+            self.data["n"] = int(s["n"])
+
     def take(self) -> dict | None:
         """The statistics so far (None if nothing was tracked), and start again."""
         d, self.data = self.data, None
