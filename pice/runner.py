@@ -87,8 +87,10 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
     snap_index = out.snapshots_kept  # 0, or after a restart the snapshots up to the checkpoint
     stop = _StopRequest(comm, progress).install()
     try:
+        watch = _peak_watch(job, sim, out, restart)
         if restart is None:
             out.series()
+            _watch_row(watch, out)
         if 0 in snaps and restart is None:
             out.snapshot(snap_index)
             snap_index += 1
@@ -106,6 +108,13 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
             if sim.c.step % every == 0 or sim.c.step == total:
                 out.series()
                 out.events()
+                _watch_row(watch, out)
+                if watch is not None and comm.bcast(watch.past if comm.rank == 0 else None):
+                    if progress is not None:
+                        print(f"pice: t = {sim.c.time:.3f} s: the resistance is past its peak (its 6 m running "
+                              f"average below {job.keel.end_after_peak:g} of it, the stem past the keel): the run "
+                              "ends here (keel.end_after_peak)", file=progress, flush=True)
+                    break
             if sim.c.step in snaps:
                 out.snapshot(snap_index)
                 snap_index += 1
@@ -154,6 +163,30 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
                 floe_steps_per_second=(sim.floes.n if sim.floes is not None else 0) * (sim.c.step - step0)
                 / max(elapsed, 1e-9),
                 mooring_node_updates=comm.bcast(_node_updates(sim) if comm.rank == 0 else None))
+
+
+def _peak_watch(job, sim, out, restart):
+    """Rank 0's postproc.resistance.PeakWatch of a keel job with keel.end_after_peak (None otherwise, and
+    on the other ranks), holding the rows already in the run file when the run continues from a checkpoint."""
+    if job.keel is None or job.keel.end_after_peak is None or sim.comm.rank != 0:
+        return None
+    from .platform.build import initial_poses
+    from .postproc.resistance import PeakWatch
+
+    watch = PeakWatch.from_job(job, sim.hulls[0], initial_poses(job)[0])
+    if restart is not None:
+        s = out.file.series
+        force = s["ice_force_mean"] if "ice_force_mean" in s else s["ice_force"]
+        for x, f in zip(s["body_position"][:, 0, 0], force[:, 0, 0]):
+            watch.add(x, f)
+    return watch
+
+
+def _watch_row(watch, out) -> None:
+    """The series row just written into the watch (rank 0)."""
+    if watch is not None:
+        row = out.row
+        watch.add(row["body_position"][0, 0], row.get("ice_force_mean", row["ice_force"])[0, 0])
 
 
 def _node_updates(sim) -> int:

@@ -37,8 +37,8 @@ from ..provenance import commit_label
 
 KEEL_FORMAT = 1
 # keys of [keel] a ship run may change against its keel's generation (the contact: seed 002 runs each
-# pile with mu_i 0.3 and 0.6; the file and the run's own step)
-RUN_KEYS = ("contact", "file", "step_fraction", "form_drag_coefficient")
+# pile with mu_i 0.3 and 0.6; the file, the run's own step and its end)
+RUN_KEYS = ("contact", "file", "step_fraction", "form_drag_coefficient", "end_after_peak")
 
 
 def keel_path(job, base_dir=None) -> pathlib.Path:

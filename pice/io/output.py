@@ -85,6 +85,7 @@ class RunOutput:
     def series(self):
         """One /series row (collective); ``self.status`` is then the progress line's figures of it."""
         row = self.sim.series_row()  # collective
+        self.row = row  # complete on rank 0, which holds the bodies
         self.status = progress_figures(self.sim, row)
         if self.mode == "mpio":  # collective
             self.file.append_series(row)

@@ -95,6 +95,10 @@ class KeelSpec(Section):
     # alone, though the water in a packed rubble moving together moves with it (docs/ridge_keel.md)
     form_drag_coefficient: quantity("", gt=None, ge=0.0) = 1.0
     file: str = ""  # the settled keel (default: beside the run file, <run>.keel.h5)
+    # a ship's run ends once R = -f_x on the first body is past its peak (postproc/resistance.PeakWatch):
+    # its stem past the keel's far edge at the cover and the 6 m running average of R below this fraction of
+    # its highest value, R^p then known; default: the whole run.duration (docs/ridge_keel.md "Ending a run")
+    end_after_peak: quantity("", lt=1.0) | None = None
 
     @model_validator(mode="after")
     def _shape(self):

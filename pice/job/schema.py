@@ -286,6 +286,9 @@ class Job(Section):
             if self.waves is not None:
                 bad(("waves", "spectrum"), self.waves.spectrum, "a [keel] lies under its cover in still water: drop "
                     "[waves]")
+            if self.keel.end_after_peak is not None and not self.bodies:
+                bad(("keel", "end_after_peak"), self.keel.end_after_peak, "ends a ship's run once its resistance "
+                    "is past the peak, and the job has no [[bodies]]: give the ship, or drop end_after_peak")
             if self.keel.y0 != 0.0 and self.half_model:
                 bad(("keel", "y0"), self.keel.y0, "a half ship's model (hull.half = true) has its symmetry plane at "
                     "the centreline y = 0, where the keel's wall at y0 stands: give y0 = 0")

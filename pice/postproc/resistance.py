@@ -62,3 +62,67 @@ def peak_resistance(delta: np.ndarray, r: np.ndarray, window: float = WINDOW):
 def resistance_work(delta: np.ndarray, r: np.ndarray) -> float:
     """The work of R over the penetration [J]: the trapezoid rule over the record's rows."""
     return float(np.sum(0.5 * (r[1:] + r[:-1]) * np.diff(delta)))
+
+
+def past_peak(delta: np.ndarray, r: np.ndarray, *, beyond: float, drop: float, window: float = WINDOW) -> bool:
+    """True when R is past its peak: the penetration is beyond ``beyond`` [m] (the stem past the keel)
+    and the running average (``running_average``) at the last row has fallen below ``drop`` times its
+    highest value so far. R^p (``peak_resistance``) of the record is then that highest value."""
+    if len(delta) == 0 or delta[-1] - delta[0] <= beyond:
+        return False
+    avg = running_average(delta, r, window)
+    if not np.isfinite(avg[-1]):
+        return False
+    return bool(avg[-1] < drop * np.nanmax(avg))
+
+
+def stem_at(vertices: np.ndarray, triangles: np.ndarray, z: float) -> float:
+    """The foremost x [m] of a closed hull mesh (world vertices (n, 3) [m], triangles (m, 3)) on the
+    horizontal plane at height ``z`` [m]: the largest x where an edge crosses it (or a vertex lies on
+    it); the foremost vertex when the hull does not reach that height."""
+    a = vertices[triangles]                      # (m, 3 corners, 3)
+    b = np.roll(a, -1, axis=1)                   # each corner's next: the triangle's three edges
+    za, zb = a[..., 2] - z, b[..., 2] - z
+    on = za == 0.0
+    cross = (za * zb < 0.0)
+    xs = []
+    if on.any():
+        xs.append(a[..., 0][on].max())
+    if cross.any():
+        s = za[cross] / (za[cross] - zb[cross])
+        xs.append((a[..., 0][cross] + s * (b[..., 0][cross] - a[..., 0][cross])).max())
+    return float(max(xs)) if xs else float(vertices[:, 0].max())
+
+
+class PeakWatch:
+    """Ends a ship's run through a keel once R is past its peak (``[keel] end_after_peak``, issue 15):
+    fed the first body's x position [m] and the x ice load on it [N] (R = -f_x) at every series row
+    (rank 0), ``past`` is ``past_peak`` of the record so far, with ``beyond`` the penetration at which
+    the body's stem reaches the keel's far edge at the cover (``from_job``)."""
+
+    def __init__(self, beyond: float, drop: float, window: float = WINDOW):
+        self.beyond, self.drop, self.window = float(beyond), float(drop), float(window)
+        self.x: list[float] = []
+        self.r: list[float] = []
+
+    @classmethod
+    def from_job(cls, job, hull, pose) -> "PeakWatch":
+        """The watch of a keel job: ``hull`` the first body's (platform.hull_contact.Hull, body frame),
+        ``pose`` its (13,) x, q, ... at t = 0; the stem is its foremost point at the cover's underside
+        (``stem_at``), the keel's far edge x + width / 2 (the run drives the body along +x)."""
+        from ..kernels.geometry import rotation_matrix
+
+        k = job.keel
+        world = hull.vertices @ rotation_matrix(np.asarray(pose[3:7], float)).T + pose[:3]
+        far = k.x + 0.5 * k.width
+        return cls(far - stem_at(world, hull.triangles, k.cover), k.end_after_peak)
+
+    def add(self, x: float, fx: float) -> None:
+        self.x.append(float(x))
+        self.r.append(-float(fx))
+
+    @property
+    def past(self) -> bool:
+        x = np.asarray(self.x)
+        return past_peak(x - x[0] if len(x) else x, np.asarray(self.r), beyond=self.beyond, drop=self.drop,
+                         window=self.window)

@@ -9,17 +9,20 @@ across (docs/ridge_keel.md).
 
 from __future__ import annotations
 
+import shutil
+
 import h5py
 import numpy as np
 import pytest
 
 from pice.cli import main
 from pice.errors import JobError
+from pice.io.checkpoint import read_checkpoint
 from pice.io.keel_file import keel_path, read_keel
 from pice.job import load_job
 from pice.kernels.floe_motion import world_polyhedra
 from pice.kernels.polyhedra import prism
-from pice.postproc.resistance import peak_resistance, resistance_work, running_average
+from pice.postproc.resistance import past_peak, peak_resistance, resistance_work, running_average, stem_at
 
 KEEL = """
 [run]
@@ -325,3 +328,80 @@ def test_the_kept_keel_files_are_their_jobs_settled_keels():
         body = np.array(blocks_as_floes(kl, rects, x, q, keel_law(kl), keel_water(job)).polygons)
         again = porosity(kl, x, q, body, kl.blocks.thickness, samples=50_000, seed=1)
         assert abs(again - data["porosity"]) <= 0.009, (again, data["porosity"])
+
+
+def test_past_peak_waits_for_the_stem_past_the_keel_and_the_drop():
+    """A triangular record, R = 100 kN (1 - |delta - 20| / 20): its 6 m average peaks at delta = 23 m,
+    the window (17, 23] about the apex, at 100 (1 - 1.5 / 20) = 92.5 kN; past 26 m it is 5 (43 - delta)
+    kN, half the peak at delta = 33.75 m (to the sampling h = 5 cm). Short of ``beyond`` nothing counts."""
+    h = 0.05
+    delta = np.arange(0.0, 40.0 + h / 2, h)
+    r = 1.0e5 * np.clip(1.0 - np.abs(delta - 20.0) / 20.0, 0.0, None)
+    avg = running_average(delta, r)
+    first = next(k for k in range(len(delta)) if past_peak(delta[:k + 1], r[:k + 1], beyond=10.0, drop=0.5))
+    assert avg[first] < 0.5 * np.nanmax(avg[:first + 1]) <= avg[first - 1]  # the first row below half
+    assert np.nanmax(avg) == pytest.approx(9.25e4, rel=1e-3)  # the sampled mean of the window: h^2 terms
+    assert delta[first] == pytest.approx(33.75, abs=h + 1e-9)
+    assert not past_peak(delta[:first + 1], r[:first + 1], beyond=delta[first] + 1.0, drop=0.5)  # stem short
+    assert not past_peak(delta[:100], r[:100], beyond=0.0, drop=0.5)  # no whole window yet
+
+
+def test_the_stem_at_a_height_is_the_hulls_foremost_point_there():
+    """A wedge bow raked back below: x = 10 + z (z in [-2, 1]) at the stem: at z = -1 the stem is at
+    x = 9, at z = 0.5 at 10.5 (the edge crossing the plane, interpolated; exact for a straight stem)."""
+    v = np.array([[0.0, -1.0, -2.0], [0.0, 1.0, -2.0], [8.0, 0.0, -2.0],
+                  [0.0, -1.0, 1.0], [0.0, 1.0, 1.0], [11.0, 0.0, 1.0]])
+    t = np.array([[0, 2, 1], [3, 4, 5], [0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4], [2, 0, 3], [2, 3, 5]])
+    assert stem_at(v, t, -1.0) == pytest.approx(9.0, abs=1e-12)
+    assert stem_at(v, t, 0.5) == pytest.approx(10.5, abs=1e-12)
+    assert stem_at(v, t, 5.0) == pytest.approx(11.0)  # above the hull: its foremost vertex
+
+
+MINI_SHIP = """
+[[bodies]]
+name = "bow"
+hull = {type = "ship", length = 12.0, midbody = 4.0, breadth = 2.0, draft = 1.5, waterline_angle = 25.0, stem_angle = 30.0, half = true}
+mass = 1.0e5
+inertia = [1e5, 1e5, 1e5]
+position = [-9.0, 0.0, 0.0]
+motion = "prescribed"
+velocity = [[0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]]
+friction = 0.1
+"""
+
+
+def test_a_ship_run_ends_once_its_resistance_is_past_the_peak(micro):
+    """keel.end_after_peak = 0.5: a half ship a twelfth of Uikku's size (its stem at x = -3 m on the
+    waterline, the cover's underside) through the micro keel (its far edge at x = 1.75 m: the stem
+    past it at delta = 4.75 m). Its rubble goes under the raked bow and the record falls (R^p about
+    1 kN near delta = 10 m, half of it near 14 m, measured): the run ends at the first series row past
+    the peak, far short of run.duration's 30 s, and not a row later."""
+    from pice.io.run_reader import open_run
+    from pice.postproc.resistance import resistance_record
+
+    folder, _ = micro
+    job = folder / "ship_ends.toml"
+    text = KEEL.format(duration=30.0, seed=1).replace('file = "micro.keel.h5"', 'file = "micro.keel.h5"\n'
+                                                     'end_after_peak = 0.5') + MINI_SHIP
+    job.write_text(text.replace("series_every = 100", "series_every = 100\ncheckpoint_every = 2.0"))
+    out = folder / "ship_ends.h5"
+    assert main(["run", str(job), "-o", str(out)]) == 0
+    with open_run(out) as run:
+        delta, r = resistance_record(run)
+        assert run.attrs["status"] == "finished"
+    # continued from its last checkpoint (t = 12 s, between two series rows: the rows after it dropped
+    # and done again), the watch holds the file's rows before it: the run ends at the same row, with the
+    # same record (the mean of the row after the checkpoint over all its steps: the checkpoint keeps them)
+    ckpt = read_checkpoint(folder / "ship_ends.ckpt.h5")["attrs"]
+    assert 10.0 < ckpt["time"] < delta[-1] and ckpt["step"] % 100  # not on a row
+    shutil.copy(out, folder / "first.h5")
+    assert main(["run", str(job), "-o", str(out), "--restart", str(folder / "ship_ends.ckpt.h5")]) == 0
+    with open_run(out) as again, open_run(folder / "first.h5") as first:
+        assert again.attrs["restarted_from"]
+        np.testing.assert_array_equal(again.series("time"), first.series("time"))
+        np.testing.assert_array_equal(again.series("ice_force_mean"), first.series("ice_force_mean"))
+    assert delta[-1] < 25.0  # ended early (1 m/s)
+    assert past_peak(delta, r, beyond=4.75, drop=0.5)
+    assert not past_peak(delta[:-1], r[:-1], beyond=4.75, drop=0.5)  # and not a row later than it had to
+    peak, at = peak_resistance(delta, r)
+    assert peak > 300.0 and 4.75 < at < delta[-1]
