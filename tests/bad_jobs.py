@@ -208,6 +208,12 @@ CASES = [
          + SHIP.replace("stem_angle = 29.7}", "stem_angle = 29.7, half = true}"),
          "keel.y0 = 5.0: a half ship's model (hull.half = true) has its symmetry plane at the centreline y = 0",
          "give y0 = 0"),
+    case("keel_end_after_peak_without_a_ship", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n"
+         "end_after_peak = 0.5\n",
+         "keel.end_after_peak = 0.5: ends a ship's run once its resistance is past the peak, and the job has no "
+         "[[bodies]]", "give the ship, or drop end_after_peak"),
+    case("keel_end_after_peak_not_a_fraction", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n"
+         "end_after_peak = 1.5\n" + SHIP, "keel.end_after_peak = 1.5: must be < 1"),
     case("keel_lock_below_rest", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n"
          "settle_friction = 0.0\nlock_speed = 0.001\n",
          "keel.lock_speed = 0.001: the friction would return only once the blocks are at rest",
