@@ -3,7 +3,7 @@ Table 2, jobs/gong_2017_keel_w{17_3,30,40,60,80}.toml, generated and run as they
 the options change, on one rank each; R^p against the keel width w beside the seed's Fig. 8.
 
     python benchmarks/keel_width_sweep.py [--widths 17.3 30 40 60 80] [--frictions 0.3 0.6]
-        [--block-scale 2] [--form-drag 0] [--fraction 0.2] [--past 30] [--seed 1] [--full] [--out DIR] [--report]
+        [--block-scale 2] [--form-drag 0] [--fraction 0.2] [--past 30] [--end-after-peak F] [--seed 1] [--full] [--out DIR] [--report]
 
 At the jobs' 0.3 m blocks the matrix costs about 110 h on this machine (docs/ridge_keel.md, "Still to
 build"). The options trade that against the seed's scene, each change named in what it prints:
@@ -16,6 +16,8 @@ build"). The options trade that against the seed's scene, each change named in w
 - ``--past m``: the run ends when the stem is m metres past the keel's far edge at the waterline
   (w + 2 + m seconds at 1 m/s; seed 002: R^p "is reached when the ship bow has nearly penetrated the
   whole ridge"; the jobs run w + 80 s for the midbody's friction as well).
+- ``--end-after-peak F``: keel.end_after_peak (the jobs: 0.5; the sweep: off): each run ends sooner
+  once its 6 m running average is below F times its peak, the stem past the keel.
 
 Each width is generated once (its keel serves every friction) and each (width, friction) run once:
 results go to DIR (default runs/keel_width_sweep) as <name>.json, so a sweep stopped and started again
@@ -73,6 +75,9 @@ def sweep_job(width: float, friction: float, args, keel_file: str, name: str) ->
     keel["seed"] = args.seed
     keel["file"] = keel_file
     keel["contact"]["friction"] = friction
+    keel.pop("end_after_peak", None)  # the records to --past, as documented; --end-after-peak ends them sooner
+    if args.end_after_peak is not None:
+        keel["end_after_peak"] = args.end_after_peak
     stem_x = 75.0  # the stem at the waterline (the hull is centred on x = 0, 150 m long)
     far_edge = keel["x"] + 0.5 * keel["width"]
     run.update(name=name, duration=float(far_edge - stem_x + args.past), snapshots=5, checkpoint_every=5.0)
@@ -171,6 +176,7 @@ def main() -> None:
     ap.add_argument("--form-drag", type=float, default=0.0)
     ap.add_argument("--fraction", type=float, default=0.2)
     ap.add_argument("--past", type=float, default=30.0)
+    ap.add_argument("--end-after-peak", type=float, default=None)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--full", action="store_true", help="the full model (w = 17.3 m) instead of the half")
     ap.add_argument("--out", default="runs/keel_width_sweep")
