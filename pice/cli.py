@@ -114,6 +114,14 @@ def _cmd_check(args) -> int:
         print(f"  bodies            {d['bodies']} ({masses})")
         sub = f", {d['mooring_substeps']} line sub-step(s) per step" if d["mooring_substeps"] else " (quasi-static)"
         print(f"  mooring lines     {d['mooring_lines']} with {d['mooring_nodes']:,} DEM nodes{sub}")
+    if job.keel is not None and job.keel.end_after_peak is not None and sim.hulls:
+        from .platform.build import initial_poses
+        from .postproc.resistance import PeakWatch
+
+        watch = PeakWatch.from_job(job, sim.hulls[0], initial_poses(job)[0])
+        print(f"  run's end         once R is past its peak (keel.end_after_peak): the stem past the keel, after "
+              f"{watch.beyond:.4g} m, and the 6 m average of R below {watch.drop:g} of its peak; at most "
+              f"run.duration")
     print(f"  wall time / sim. s {wall_per_s:,.1f} s on this machine, 1 rank (probe of {probe} steps: "
           + (f"{d['floes'] / per_step:,.3g} floe-steps/s" if d.get("floes") else
              f"{d['elements'] / per_step:,.3g} particle-steps/s") + f"); the {job.run.duration:g} s job: "

@@ -370,7 +370,7 @@ friction = 0.1
 """
 
 
-def test_a_ship_run_ends_once_its_resistance_is_past_the_peak(micro):
+def test_a_ship_run_ends_once_its_resistance_is_past_the_peak(micro, capsys):
     """keel.end_after_peak = 0.5: a half ship a twelfth of Uikku's size (its stem at x = -3 m on the
     waterline, the cover's underside) through the micro keel (its far edge at x = 1.75 m: the stem
     past it at delta = 4.75 m). Its rubble goes under the raked bow and the record falls (R^p about
@@ -385,6 +385,9 @@ def test_a_ship_run_ends_once_its_resistance_is_past_the_peak(micro):
                                                      'end_after_peak = 0.5') + MINI_SHIP
     job.write_text(text.replace("series_every = 100", "series_every = 100\ncheckpoint_every = 2.0"))
     out = folder / "ship_ends.h5"
+    assert main(["check", str(job)]) == 0
+    assert "the stem past the keel, after 4.75 m, and the 6 m average of R below 0.5 of its peak" in \
+        capsys.readouterr().out
     assert main(["run", str(job), "-o", str(out)]) == 0
     with open_run(out) as run:
         delta, r = resistance_record(run)
