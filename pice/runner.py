@@ -87,7 +87,8 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
     snap_index = out.snapshots_kept  # 0, or after a restart the snapshots up to the checkpoint
     stop = _StopRequest(comm, progress).install()
     try:
-        watch = _peak_watch(job, sim, out, restart)
+        watch = _peak_watch(job, sim, out, restart)  # rank 0's; every rank takes part in its verdict
+        watching = job.keel is not None and job.keel.end_after_peak is not None
         if restart is None:
             out.series()
             _watch_row(watch, out)
@@ -109,7 +110,7 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
                 out.series()
                 out.events()
                 _watch_row(watch, out)
-                if watch is not None and comm.bcast(watch.past if comm.rank == 0 else None):
+                if watching and comm.bcast(watch.past if comm.rank == 0 else None):  # collective
                     if progress is not None:
                         print(f"pice: t = {sim.c.time:.3f} s: the resistance is past its peak (its 6 m running "
                               f"average below {job.keel.end_after_peak:g} of it, the stem past the keel): the run "

@@ -292,3 +292,44 @@ name = "upright"
 criteria = ["max_heel_deg < 90"]
 set = {"run.duration" = 0.02}
 """
+
+# --- ridge keels (issue 15): a micro keel (3.5 m x 1.5 m, 1 m deep) and a half ship a twelfth of
+# Uikku's size; `pice keel` settles the keel (tests/physics/test_keel.py's fixture), a run meets it
+MICRO_KEEL = """
+[run]
+name = "micro"
+duration = {duration}
+series_every = 100
+
+[water]
+density = 1010.0
+
+[keel]
+width = 3.5
+length = 1.5
+depth = 1.0
+seed = {seed}
+settle_friction = 0.0
+lock_speed = 0.03
+file = "micro.keel.h5"
+"""
+
+MINI_SHIP = """
+[[bodies]]
+name = "bow"
+hull = {type = "ship", length = 12.0, midbody = 4.0, breadth = 2.0, draft = 1.5, waterline_angle = 25.0, stem_angle = 30.0, half = true}
+mass = 1.0e5
+inertia = [1e5, 1e5, 1e5]
+position = [-9.0, 0.0, 0.0]
+motion = "prescribed"
+velocity = [[0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]]
+friction = 0.1
+"""
+
+
+def ship_ends_job(*, duration: float = 30.0, checkpoint_every: float = 2.0) -> str:
+    """The mini ship through the micro keel (its file micro.keel.h5 beside the job), ending once R is
+    past its peak (keel.end_after_peak = 0.5): about 14 s of its duration, measured."""
+    text = MICRO_KEEL.format(duration=duration, seed=1).replace(
+        'file = "micro.keel.h5"', 'file = "micro.keel.h5"\nend_after_peak = 0.5') + MINI_SHIP
+    return text.replace("series_every = 100", f"series_every = 100\ncheckpoint_every = {checkpoint_every}")

@@ -23,25 +23,9 @@ from pice.job import load_job
 from pice.kernels.floe_motion import world_polyhedra
 from pice.kernels.polyhedra import prism
 from pice.postproc.resistance import past_peak, peak_resistance, resistance_work, running_average, stem_at
+from scenes import MICRO_KEEL as KEEL
+from scenes import ship_ends_job
 
-KEEL = """
-[run]
-name = "micro"
-duration = {duration}
-series_every = 100
-
-[water]
-density = 1010.0
-
-[keel]
-width = 3.5
-length = 1.5
-depth = 1.0
-seed = {seed}
-settle_friction = 0.0
-lock_speed = 0.03
-file = "micro.keel.h5"
-"""
 SHIP = """
 [[bodies]]
 name = "bow"
@@ -357,19 +341,6 @@ def test_the_stem_at_a_height_is_the_hulls_foremost_point_there():
     assert stem_at(v, t, 5.0) == pytest.approx(11.0)  # above the hull: its foremost vertex
 
 
-MINI_SHIP = """
-[[bodies]]
-name = "bow"
-hull = {type = "ship", length = 12.0, midbody = 4.0, breadth = 2.0, draft = 1.5, waterline_angle = 25.0, stem_angle = 30.0, half = true}
-mass = 1.0e5
-inertia = [1e5, 1e5, 1e5]
-position = [-9.0, 0.0, 0.0]
-motion = "prescribed"
-velocity = [[0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]]
-friction = 0.1
-"""
-
-
 def test_a_ship_run_ends_once_its_resistance_is_past_the_peak(micro, capsys):
     """keel.end_after_peak = 0.5: a half ship a twelfth of Uikku's size (its stem at x = -3 m on the
     waterline, the cover's underside) through the micro keel (its far edge at x = 1.75 m: the stem
@@ -381,9 +352,7 @@ def test_a_ship_run_ends_once_its_resistance_is_past_the_peak(micro, capsys):
 
     folder, _ = micro
     job = folder / "ship_ends.toml"
-    text = KEEL.format(duration=30.0, seed=1).replace('file = "micro.keel.h5"', 'file = "micro.keel.h5"\n'
-                                                     'end_after_peak = 0.5') + MINI_SHIP
-    job.write_text(text.replace("series_every = 100", "series_every = 100\ncheckpoint_every = 2.0"))
+    job.write_text(ship_ends_job())
     out = folder / "ship_ends.h5"
     assert main(["check", str(job)]) == 0
     assert "the stem past the keel, after 4.75 m, and the 6 m average of R below 0.5 of its peak" in \
