@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InstabilityError
+from ..kernels.box_contact import box_half_extents
 from ..kernels.floe_contact import (PAIR_RECORD, STRUCTURE_RECORD, apply_pair_records, apply_structure_records,
                                     boxes_within, build_floe_pairs, floe_boxes, floe_contacts, plane_contacts,
                                     structure_contacts)
@@ -146,6 +147,9 @@ class Floes:
             self.added[:], extra = plate_added_mass(self.area, draft, water.density)
             self.inertia[:, :2] += extra[:, None]
         self.body_counts = np.array([b[1][:nf] for b in self.body], np.int64).reshape(n, nf)
+        # (n, 3) the half extents [m] when every floe is a box (a keel's blocks): their overlaps then take
+        # kernels/box_contact.py, the same to round-off in fewer operations; else (0, 3)
+        self.box_half = box_half_extents(self.body_pts, self.body_counts)
         self.force, self.torque = np.zeros((n, 3)), np.zeros((n, 3))
         self.cgid = np.full((n, MAX_CONTACTS), -1, np.int64)
         self.stamp = np.full((n, MAX_CONTACTS), -10, np.int64)
@@ -265,10 +269,11 @@ class Floes:
             skin = PAIR_SKIN * float(self.bound.max()) if n else 0.0
             near = self.near = ((lo, hi, stride),) + build_floe_pairs(n, lo, hi, stride, self.x, self.bound, box, skin)
             self.pair_lists += 1
+        rot = floe_rotations(self.q) if len(self.box_half) else np.empty((0, 3, 3))
         nrec, nplastic, worst = floe_contacts(n, lo, hi, stride, near[1], near[2], box, self.gid, self.x, self.v,
                                               omega, self.mass, self.bound, pts, counts, law.kn, law.cn, law.zeta,
                                               law.kt, law.mu, law.pressure, dt, self.step_count, self.cgid,
-                                              self.stamp, self.hist, rec)
+                                              self.stamp, self.hist, rec, rot, self.box_half)
         _refuse_overflow(nrec, rec, "floe-floe")
         return rec, nrec, nplastic, worst
 
