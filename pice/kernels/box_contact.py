@@ -20,7 +20,7 @@ kernel), computed in A's body frame, where A is the axis-aligned box |x_e| <= h_
   polyhedron_contact.contact_scalars; the centroid and normal are turned into space last.
 
 Measured (benchmarks/keel_contacts.py, the narrow keel's 4,788 blocks, 15,076 overlapping pairs, one
-rank): the overlap geometry 1.12 against 1.43 us a pair, and with the pair's work moved into the loop of
+rank): the overlap geometry 1.13 against 1.47 us a pair, and with the pair's work moved into the loop of
 floe_contacts (no call of two dozen arguments) the block-block contacts 19.7 against 32.0 ms a step and
 the step 23.4 against 36.6 ms (docs/ridge_keel.md, "The box kernel").
 
