@@ -21,11 +21,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import pathlib
 import statistics
 import subprocess
 import sys
+
+from pice.parallel.comm import without_launcher
 
 
 def bench(tree: pathlib.Path, ranks: int, args, json_path: pathlib.Path) -> dict:
@@ -36,7 +37,7 @@ def bench(tree: pathlib.Path, ranks: int, args, json_path: pathlib.Path) -> dict
            "--length", str(args.length), "--width", str(args.width), "--json", str(json_path)]
     if ranks > 1:
         cmd = [str(bindir / "mpiexec"), "-n", str(ranks)] + cmd
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PMI_", "MPI_", "HYDRA_", "OMPI_"))}
+    env = without_launcher()
     env["PYTHONPATH"] = str(tree)
     done = subprocess.run(cmd, cwd=tree, env=env, capture_output=True, text=True)
     if done.returncode != 0:

@@ -91,7 +91,9 @@ def measure(steps: int, warmup: int, length: float, width: float, repeat: int) -
 
 def sweep(counts: list[int], steps: int, length: float, width: float, repeat: int) -> None:
     """Strong scaling: launch each rank count of ``counts`` with the venv's mpiexec."""
-    env = {k: v for k, v in os.environ.items() if not k.startswith(("PMI_", "HYDRA_", "OMPI_", "PMIX_"))}
+    from pice.parallel.comm import without_launcher
+
+    env = without_launcher()
     bindir = pathlib.Path(sys.executable).parent
     rates = {}
     for n in counts:

@@ -15,16 +15,16 @@ import subprocess
 import sys
 import time
 
+from pice.parallel.comm import without_launcher
+
 BIN = pathlib.Path(sys.executable).parent  # the venv's bin: pice, mpiexec
 MPIEXEC = BIN / "mpiexec"
-#: what an MPI launcher puts in the environment of the processes it starts
-LAUNCHER_PREFIXES = ("PMI_", "OMPI_", "PMIX_", "HYDRA_", "MPI_", "MPIR_")
 
 
 def clean_env(**extra: str) -> dict:
     """This environment without the MPI launcher's variables (so a child `mpiexec` starts its own
     job even when pytest itself runs under mpiexec), with the venv's bin first on PATH, plus ``extra``."""
-    env = {k: v for k, v in os.environ.items() if not k.startswith(LAUNCHER_PREFIXES)}
+    env = without_launcher()
     env["PATH"] = f"{BIN}{os.pathsep}{env.get('PATH', '')}"
     env.update(extra)
     return env

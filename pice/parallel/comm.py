@@ -11,11 +11,21 @@ import numpy as np
 GHOST_TAG = 17  # the tag of the ghost update's point-to-point messages
 
 _LAUNCHER_VARS = ("PMI_SIZE", "PMI_RANK", "OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS")
+# the prefixes of the variables MPICH's Hydra and Open MPI's launchers give their processes
+LAUNCHER_PREFIXES = ("PMI_", "OMPI_", "PMIX_", "HYDRA_", "MPI_", "MPIR_")
 
 
 def launched_by_mpi() -> bool:
     """True when an MPI launcher (mpiexec/srun) started this process."""
     return any(v in os.environ for v in _LAUNCHER_VARS)
+
+
+def without_launcher(env=None) -> dict:
+    """A copy of ``env`` (default: this process's environment) without the MPI launcher's variables
+    (LAUNCHER_PREFIXES): a child `mpiexec` given it starts its own job, even from a process that an
+    mpiexec started (the tests under `mpiexec -n 2`, the benchmarks' launches)."""
+    env = os.environ if env is None else env
+    return {k: v for k, v in env.items() if not k.startswith(LAUNCHER_PREFIXES)}
 
 
 class SerialComm:
