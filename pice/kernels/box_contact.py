@@ -12,8 +12,7 @@ kernel), computed in A's body frame, where A is the axis-aligned box |x_e| <= h_
   each of the other box's six face planes it is outside of (more than EPS beyond, as the general clip).
 - A face whose four corners are all outside one plane (their codes share a bit) has no part inside the
   other box and is skipped; the others are clipped only by the planes some corner is outside of (a
-  convex polygon whose corners are inside a plane lies inside it), each clip a coordinate against a
-  half extent. Two boxes are apart when all eight corners of one share a bit (a face axis separates
+  convex polygon whose corners are inside a plane lies inside it). Two boxes are apart when all eight corners of one share a bit (a face axis separates
   them): no face survives.
 - A's faces are clipped in B's frame and the pieces turned into A's frame; the tetrahedra fanned from
   one apex then give the volume and centroid, and A's pieces the vector area S_A, as in
@@ -32,13 +31,12 @@ the same 15,070 overlaps, and the overlaps' depths differ by about that 2e-10 m:
 k_n 2e-10 m = 2 mN at seed 002's k_n.
 """
 
-import math
-
 import numpy as np
 from numba import njit
 
 from . import JIT
-from .polyhedra import EPS, fan_sums
+from .polyhedra import EPS, _clip_face, fan_sums
+from .polyhedron_contact import overlap_scalars
 
 
 def _face_table() -> np.ndarray:
@@ -117,26 +115,6 @@ def _separated(t0, t1, t2, R, ha, hb):
 
 
 @njit(inline="always", **JIT)
-def _clip_axis(src, n_src, e, sign, g, out):
-    """Clip the convex polygon src[:n_src] to sign * x_e <= g (the plane of a box's face); write it to
-    out; return its size (kernels/polyhedra._clip_face for the plane n = sign e_e, offset g)."""
-    m = 0
-    for i in range(n_src):
-        j = i + 1 if i + 1 < n_src else 0
-        da = sign * src[i, e] - g
-        db = sign * src[j, e] - g
-        if da <= EPS:
-            out[m, 0], out[m, 1], out[m, 2] = src[i, 0], src[i, 1], src[i, 2]
-            m += 1
-        if (da < -EPS and db > EPS) or (da > EPS and db < -EPS):
-            t = da / (da - db)
-            for c in range(3):
-                out[m, c] = src[i, c] + t * (src[j, c] - src[i, c])
-            m += 1
-    return m
-
-
-@njit(inline="always", **JIT)
 def _face_inside(corner, codes, f, g, buf):
     """Face f of a box, its corners given in the other box's frame (corner (8, 3), codes (8,)), clipped to
     that box |x_e| <= g_e: (index of buf holding it, its size; < 3 when nothing of it is inside)."""
@@ -150,7 +128,9 @@ def _face_inside(corner, codes, f, g, buf):
     cur, n = 0, 4
     for b in range(6):
         if out & (1 << b):
-            n = _clip_axis(buf[cur], n, b >> 1, 1.0 if b & 1 == 0 else -1.0, g[b >> 1], buf[1 - cur])
+            e, sign = b >> 1, 1.0 if b & 1 == 0 else -1.0  # the plane sign * x_e = g_e
+            n = _clip_face(buf[cur], n, sign if e == 0 else 0.0, sign if e == 1 else 0.0, sign if e == 2 else 0.0,
+                           g[e], buf[1 - cur])
             cur = 1 - cur
             if n < 3:
                 return cur, 0
@@ -222,21 +202,17 @@ def box_contact_scalars(ca, Ra, ha, cb, Rb, hb, buf, corner_a, corner_b, codes_a
             vol, c0, c1, c2 = vol + v6, c0 + m0, c1 + m1, c2 + m2
             if side == 0:
                 s0, s1, s2 = s0 + a0, s1 + a1, s2 + a2
+    vol, k0, k1, k2, n0, n1, n2, area, depth = overlap_scalars(vol, c0, c1, c2, s0, s1, s2, r0, r1, r2)
     if vol <= 0.0:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    k0, k1, k2 = c0 / (4.0 * vol) + r0, c1 / (4.0 * vol) + r1, c2 / (4.0 * vol) + r2
-    vol /= 6.0
-    # into space: the centroid ca + Ra k, S_A as Ra S_A
+    # into space: the centroid ca + Ra k, the normal Ra n
     w0 = ca[0] + Ra[0, 0] * k0 + Ra[0, 1] * k1 + Ra[0, 2] * k2
     w1 = ca[1] + Ra[1, 0] * k0 + Ra[1, 1] * k1 + Ra[1, 2] * k2
     w2 = ca[2] + Ra[2, 0] * k0 + Ra[2, 1] * k1 + Ra[2, 2] * k2
-    area = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
-    if area <= 0.0:
-        return vol, w0, w1, w2, 0.0, 0.0, 0.0, 0.0, 0.0
-    n0 = (Ra[0, 0] * s0 + Ra[0, 1] * s1 + Ra[0, 2] * s2) / area
-    n1 = (Ra[1, 0] * s0 + Ra[1, 1] * s1 + Ra[1, 2] * s2) / area
-    n2 = (Ra[2, 0] * s0 + Ra[2, 1] * s1 + Ra[2, 2] * s2) / area
-    return vol, w0, w1, w2, n0, n1, n2, area, vol / area
+    m0 = Ra[0, 0] * n0 + Ra[0, 1] * n1 + Ra[0, 2] * n2
+    m1 = Ra[1, 0] * n0 + Ra[1, 1] * n1 + Ra[1, 2] * n2
+    m2 = Ra[2, 0] * n0 + Ra[2, 1] * n1 + Ra[2, 2] * n2
+    return vol, w0, w1, w2, m0, m1, m2, area, depth
 
 
 @njit(inline="always", **JIT)

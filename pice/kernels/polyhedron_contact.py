@@ -124,10 +124,18 @@ def contact_scalars(a_pts, a_counts, a_planes, b_pts, b_counts, b_planes, buf):
             vol, c0, c1, c2 = vol + v6, c0 + m0, c1 + m1, c2 + m2
             if side == 0:  # S_A: the vector areas of A's parts
                 s0, s1, s2 = s0 + a0, s1 + a1, s2 + a2
-    if vol <= 0.0:
+    return overlap_scalars(vol, c0, c1, c2, s0, s1, s2, r0, r1, r2)
+
+
+@njit(**JIT)
+def overlap_scalars(vol6, c0, c1, c2, s0, s1, s2, r0, r1, r2):
+    """The contact from the overlap's sums over its faces (``fan_sums`` from the apex r): 6 V, the
+    moments c, S_A; (volume [m^3], centroid (3 scalars) [m], unit normal S_A / |S_A| (3 scalars), contact
+    area |S_A| [m^2], depth V / |S_A| [m]), all zero when vol6 <= 0 (apart)."""
+    if vol6 <= 0.0:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    k0, k1, k2 = c0 / (4.0 * vol) + r0, c1 / (4.0 * vol) + r1, c2 / (4.0 * vol) + r2
-    vol /= 6.0
+    k0, k1, k2 = c0 / (4.0 * vol6) + r0, c1 / (4.0 * vol6) + r1, c2 / (4.0 * vol6) + r2
+    vol = vol6 / 6.0
     area = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
     if area <= 0.0:
         return vol, k0, k1, k2, 0.0, 0.0, 0.0, 0.0, 0.0
