@@ -79,6 +79,13 @@ def _check_keel_to_generate(job, source) -> int:
     """`pice check` of a ship run whose keel file is not made yet: what its generation will settle."""
     from .physics.keel import generation_facts
 
+    if job.keel.trim_from is not None:
+        from .io.keel_file import read_trim_source
+
+        wider = read_trim_source(job, pathlib.Path(source).parent)  # JobError: missing, or another keel
+        print(f"{source}: valid; its keel file is not made yet (pice keel {source}: trimmed from "
+              f"{wider['path']}, {wider['width']:g} m wide, {len(wider['x']):,} blocks, in seconds)")
+        return 0
     g = generation_facts(job)
     lo, hi = g["mass_range"]
     print(f"{source}: valid; its keel file is not generated yet (pice keel {source})")

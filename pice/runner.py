@@ -210,6 +210,28 @@ def simulation_from_checkpoint(job, path, *, base_dir=None, comm=None) -> Simula
     return Simulation.from_checkpoint(job, data, base_dir=base_dir, comm=comm)
 
 
+def _trimmed_keel(job, path, base_dir, comm, t0: float) -> dict:
+    """make_keel of a keel trimmed from a wider one's file (keel.trim_from): rank 0 reads, trims, writes."""
+    from .io.keel_file import read_trim_source, write_keel
+    from .parallel.comm import on_root
+    from .physics.keel import trim_keel
+
+    def trim():
+        wider = read_trim_source(job, base_dir)
+        keel = trim_keel(job.keel, wider)
+        write_keel(path, job.keel, keel)
+        return keel, wider["path"], wider["width"], len(wider["x"])
+
+    keel, wider, width, of = comm.bcast(on_root(comm, trim))
+    took = wall.perf_counter() - t0
+    line = (f"pice keel: {path}: {len(keel.x):,} of the {of:,} blocks of {wider} ({width:g} m wide) trimmed to "
+            f"{job.keel.width:g} m; porosity {keel.porosity:.3f} (core {keel.core_porosity:.3f}); {took:.1f} s of "
+            "wall time")
+    return dict(file=str(path), blocks=len(keel.x), released=keel.released, settle_time=keel.settle_time,
+                rms_speed=keel.rms_speed, porosity=keel.porosity, core_porosity=keel.core_porosity,
+                wall_time=took, rank=comm.rank, line=line, trimmed_from=str(wider))
+
+
 def make_keel(job, *, output=None, base_dir=None, progress="stderr", comm=None) -> dict:
     """Generate the job's [keel] on the ranks of ``comm`` (physics/keel.py), write its keel file (rank
     0; ``output``, default keel.file or <job>.keel.h5 beside the job) and return a summary. progress:
@@ -231,6 +253,8 @@ def make_keel(job, *, output=None, base_dir=None, progress="stderr", comm=None) 
             print(f"pice keel: t = {t:.4g} s, RMS speed {rms:.3g} m/s, {contacts:,} block contacts", file=progress,
                   flush=True)
 
+    if job.keel.trim_from is not None:  # no generation: the middle of a wider keel's file
+        return _trimmed_keel(job, path, base_dir, comm, t0)
     gen = generation_path(path)  # a killed or unsettled generation is continued from it
     resume = comm.bcast(on_root(comm, lambda: read_generation(gen, job.keel, job.source)))
     if resume is not None and loud:

@@ -39,6 +39,9 @@ KEEL_FORMAT = 1
 # keys of [keel] a ship run may change against its keel's generation (the contact: seed 002 runs each
 # pile with mu_i 0.3 and 0.6; the file, the run's own step and its end)
 RUN_KEYS = ("contact", "file", "step_fraction", "form_drag_coefficient", "end_after_peak")
+# keys of [keel] a keel trimmed from a wider one (keel.trim_from) may have of its own: its shape's width
+# and place, and the key that names the wider keel; the others must be the wider keel's
+TRIM_KEYS = ("width", "x", "trim_from", "settle_time")
 
 
 def keel_path(job, base_dir=None) -> pathlib.Path:
@@ -72,33 +75,64 @@ def write_keel(path, keel, result) -> pathlib.Path:
     return path
 
 
-def read_keel(path, keel, source: str) -> dict:
-    """The blocks and records of the keel file at ``path`` for the job's ``keel``; JobError when it is
-    missing, unreadable, or generated from another keel (the keys that differ are named)."""
+def read_keel_file(path, fix: str, what: str = "keel.file") -> dict:
+    """The blocks and records of the keel file at ``path``, whatever keel it was generated from (its
+    [keel] keys as ``made``); JobError naming ``what`` and ``fix`` when it is missing or unreadable."""
     import h5py
 
     path = pathlib.Path(path)
-    fix = f"generate it: pice keel {source}"
     if not path.exists():
-        raise JobError(f"{source}: keel.file = {str(path)!r}: not found; {fix}")
+        raise JobError(f"{what} = {str(path)!r}: not found; {fix}")
     try:
         with h5py.File(path, "r") as f:
             out = {k: f[k][()] for k in ("rects", "x", "q")}
             attrs = dict(f.attrs)
     except (OSError, KeyError) as exc:
-        raise JobError(f"{source}: keel.file = {str(path)!r}: not a keel file ({exc}); {fix}") from None
+        raise JobError(f"{what} = {str(path)!r}: not a keel file ({exc}); {fix}") from None
     if int(attrs.get("format", 0)) != KEEL_FORMAT:
-        raise JobError(f"{source}: keel.file = {str(path)!r}: format {attrs.get('format')}, not {KEEL_FORMAT}; {fix}")
-    made, want = json.loads(attrs["keel"]), _generation_keys(keel)
+        raise JobError(f"{what} = {str(path)!r}: format {attrs.get('format')}, not {KEEL_FORMAT}; {fix}")
+    out.update(made=json.loads(attrs["keel"]), porosity=float(attrs["porosity"]),
+               core_porosity=float(attrs["core_porosity"]), settle_time=float(attrs["settle_time"]),
+               rms_speed=float(attrs.get("rms_speed", math.nan)), locked_at=float(attrs.get("locked_at", math.nan)),
+               released=int(attrs["released"]), contact=json.loads(attrs["contact"]))
+    out["rects"], out["x"], out["q"] = (np.asarray(out[k], float) for k in ("rects", "x", "q"))
+    return out
+
+
+def read_keel(path, keel, source: str) -> dict:
+    """The blocks and records of the keel file at ``path`` for the job's ``keel``; JobError when it is
+    missing, unreadable, or generated from another keel (the keys that differ are named)."""
+    fix = f"generate it: pice keel {source}"
+    out = read_keel_file(path, fix, f"{source}: keel.file")
+    made, want = out.pop("made"), _generation_keys(keel)
     differ = sorted(k for k in set(made) | set(want) if made.get(k) != want.get(k))
     if differ:
         keys = ", keel.".join(differ)
         raise JobError(f"{source}: keel.file = {str(path)!r}: generated from another keel (keel.{keys} differ); "
                        f"give its own file (keel.file) or {fix}")
-    out.update(porosity=float(attrs["porosity"]), core_porosity=float(attrs["core_porosity"]),
-               settle_time=float(attrs["settle_time"]), released=int(attrs["released"]),
-               contact=json.loads(attrs["contact"]))
-    out["rects"], out["x"], out["q"] = (np.asarray(out[k], float) for k in ("rects", "x", "q"))
+    return out
+
+
+def read_trim_source(job, base_dir=None) -> dict:
+    """The wider keel that the job's keel is trimmed from (keel.trim_from, relative to the job's folder),
+    as read_keel_file gives it, with its ``path``; JobError when it is missing, or was generated from
+    other blocks, depth, angle, length, cover, seed or settling than the job's [keel] (the keys that
+    differ are named: only TRIM_KEYS may), or is narrower than the job's keel."""
+    keel, source = job.keel, job.source
+    path = pathlib.Path(base_dir or ".") / keel.trim_from
+    fix = "generate the wider keel first (pice keel on its job), or give keel.trim_from its file"
+    out = read_keel_file(path, fix, f"{source}: keel.trim_from")
+    made, want = out.pop("made"), _generation_keys(keel)
+    differ = sorted(k for k in set(made) | set(want) if k not in TRIM_KEYS and made.get(k) != want.get(k))
+    if differ:
+        keys = ", keel.".join(differ)
+        raise JobError(f"{source}: keel.trim_from = {str(path)!r}: generated from another keel (keel.{keys} differ); "
+                       "a keel is trimmed only from one of the same blocks, depth, pile_angle, length, cover, seed "
+                       "and settling: give those keys the wider keel's values")
+    if made["width"] < keel.width:
+        raise JobError(f"{source}: keel.trim_from = {str(path)!r}: is {made['width']:g} m wide, narrower than this "
+                       f"keel's keel.width = {keel.width:g} m; trim from a keel at least as wide")
+    out.update(path=path, width=float(made["width"]), x_centre=float(made.get("x", 0.0)))
     return out
 
 

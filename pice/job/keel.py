@@ -90,11 +90,15 @@ class KeelSpec(Section):
     # settle_friction to the end): frictionless packing, then locked by friction to rest
     lock_speed: quantity("m/s") | None = None
     settle_time: quantity("s") = 120.0
-    step_fraction: quantity("", le=0.2) = 0.1  # the step: this fraction of the shortest contact, m_eff / c_n
+    step_fraction: quantity("", le=0.5) = 0.1  # the step: this fraction of the shortest contact, m_eff / c_n
     # C_d of each block's form drag in the water (kernels/floe_hydro.py; 1 as the floes'): each block drags
     # alone, though the water in a packed rubble moving together moves with it (docs/ridge_keel.md)
     form_drag_coefficient: quantity("", gt=None, ge=0.0) = 1.0
     file: str = ""  # the settled keel (default: beside the run file, <run>.keel.h5)
+    # instead of a generation of its own, `pice keel` trims this keel from the middle of a wider one's
+    # settled file (relative to the job's folder), generated from the same blocks, depth, angle, length,
+    # cover, seed and settling: one generation for a width sweep (docs/ridge_keel.md "One generation")
+    trim_from: str | None = None
     # a ship's run ends once R = -f_x on the first body is past its peak (postproc/resistance.PeakWatch):
     # its stem past the keel's far edge at the cover and the 6 m running average of R below this fraction of
     # its highest value, R^p then known; default: the whole run.duration (docs/ridge_keel.md "Ending a run")

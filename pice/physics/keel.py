@@ -194,6 +194,24 @@ def generate_keel(job, comm, *, progress=None, resume=None, save=None) -> Keel:
 
 
 
+def trim_keel(keel, wider: dict) -> Keel:
+    """``keel`` (a KeelSpec) trimmed from the middle of a wider settled keel (``wider``: its file's blocks
+    and records, io/keel_file.read_trim_source): the wider keel's blocks moved along x by keel.x minus
+    its centre, those whose centres lie inside ``keel`` kept (the generation's own trim), the porosity
+    measured again. The two trapezoids share depth and pile angle, so the narrower one, centred on the
+    wider, lies inside it; its middle is the part of the settled pile farthest from the generation's end
+    walls. Settling time, RMS speed, released count and lock time are the wider generation's."""
+    centres = wider["x"] + np.array([keel.x - wider["x_centre"], 0.0, 0.0])
+    keep = inside_keel(keel, centres)
+    body, centres, turned = wider["rects"][keep], centres[keep], wider["q"][keep]
+    p_all = porosity(keel, centres, turned, body, keel.blocks.thickness)
+    p_core = porosity(keel, centres, turned, body, keel.blocks.thickness, core=0.5)
+    log.info("keel: %d of the %d blocks of a %.4g m wide keel lie inside this %.4g m one; porosity %.3f (core %.3f)",
+             int(keep.sum()), len(keep), wider["width"], keel.width, p_all, p_core)
+    return Keel(body, centres, turned, wider["settle_time"], wider["rms_speed"], wider["released"], p_all, p_core,
+                wider["locked_at"])
+
+
 def keel_from_job(job, hulls, poses, *, comm, base_dir=None) -> FloeSystem:
     """The job's settled keel (its file, io/keel_file.py) as rigid pieces with the cover, the end walls
     and every body's hull (floe_system.add_body_structures), for a ship run; [keel.contact] may differ

@@ -9,6 +9,7 @@ across (docs/ridge_keel.md).
 
 from __future__ import annotations
 
+import pathlib
 import shutil
 
 import h5py
@@ -113,6 +114,68 @@ def test_a_half_models_symmetry_wall_is_frictionless():
         cover, near, far = (s["mu"] for s in floes.structures)
         assert cover is None and far is None  # the contact law's friction
         assert near == (0.0 if job is half else None)
+
+
+def _trimmed_job(folder, name: str, *, width: float = 3.5, x: float = 0.0, seed: int = 1) -> pathlib.Path:
+    """The micro keel as a job whose keel is trimmed from wide.keel.h5 (keel.trim_from) to ``width``,
+    centred on ``x``, its own file <name>.keel.h5."""
+    job = folder / f"{name}.toml"
+    job.write_text(KEEL.format(duration=2.0, seed=seed).replace(
+        'file = "micro.keel.h5"', f'file = "{name}.keel.h5"\ntrim_from = "wide.keel.h5"\nx = {x}')
+                   .replace("width = 3.5", f"width = {width}"))
+    return job
+
+
+def test_a_keel_trimmed_from_a_wider_one_is_the_settled_pile_moved(micro, tmp_path, capsys):
+    """keel.trim_from (one generation for a width sweep, docs/ridge_keel.md "One generation"): the
+    trimmed keel's blocks are the wider keel's, moved rigidly by the change of keel.x (to round-off,
+    1e-12 m: no block moves against another, so the settled packing is kept), those whose centres lie
+    outside the narrower shape dropped. Trimmed to the same width, it is the whole keel, and its
+    porosity, measured again by the same Monte Carlo points relative to the keel, is the source's to
+    1e-9. A ship run reads the trimmed file as its keel."""
+    folder, _ = micro
+    shutil.copy(folder / "micro.keel.h5", tmp_path / "wide.keel.h5")
+    wide = load_job(folder / "micro.toml")
+    source = read_keel(folder / "micro.keel.h5", wide.keel, wide.source)
+    same = _trimmed_job(tmp_path, "same", x=10.0)
+    ship = tmp_path / "ship.toml"  # a ship run before its keel: `pice check` names the wider keel
+    ship.write_text(same.read_text() + SHIP)
+    assert main(["check", str(ship)]) == 0
+    out = capsys.readouterr().out
+    assert "its keel file is not made yet (pice keel" in out and "wide.keel.h5, 3.5 m wide" in out
+    assert main(["keel", str(same)]) == 0
+    job = load_job(same)
+    moved = read_keel(tmp_path / "same.keel.h5", job.keel, job.source)  # the file is this job's keel
+    np.testing.assert_allclose(moved["x"], source["x"] + [10.0, 0.0, 0.0], rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(moved["q"], source["q"])
+    np.testing.assert_array_equal(moved["rects"], source["rects"])
+    assert abs(moved["porosity"] - source["porosity"]) < 1e-9
+    assert moved["released"] == source["released"] and moved["settle_time"] == source["settle_time"]
+
+    narrow = _trimmed_job(tmp_path, "narrow", width=3.45)  # the triangle's tip, 1 cm less at each side
+    assert main(["keel", str(narrow)]) == 0
+    job = load_job(narrow)
+    kept = read_keel(tmp_path / "narrow.keel.h5", job.keel, job.source)
+    _assert_in_basin(job.keel, kept, 1e-3)
+    assert 0 < len(kept["x"]) <= len(source["x"])
+    index = [int(np.flatnonzero(np.all(source["x"] == c, axis=1))[0]) for c in kept["x"]]  # the same blocks
+    np.testing.assert_array_equal(kept["q"], source["q"][index])
+
+
+def test_a_keel_is_trimmed_only_from_a_wider_one_of_the_same_blocks_and_seed(micro, tmp_path, capsys):
+    """`pice keel` of a keel.trim_from that is missing, of another seed, or narrower fails with an error
+    that names the problem and the fix, and writes no file."""
+    folder, _ = micro
+    assert main(["keel", str(_trimmed_job(tmp_path, "none"))]) != 0
+    assert "wide.keel.h5': not found; generate the wider keel first (pice keel on its job)" in capsys.readouterr().err
+    shutil.copy(folder / "micro.keel.h5", tmp_path / "wide.keel.h5")
+    for name, kw, message in [("seed2", dict(seed=2), "generated from another keel (keel.seed differ); a keel is "
+                                                      "trimmed only from one of the same blocks"),
+                              ("wider", dict(width=4.0), "is 3.5 m wide, narrower than this keel's keel.width = 4 m; "
+                                                         "trim from a keel at least as wide")]:
+        assert main(["keel", str(_trimmed_job(tmp_path, name, **kw))]) != 0
+        assert message in capsys.readouterr().err
+        assert not list(tmp_path.glob(f"{name}.keel.h5*"))
 
 
 def test_check_of_a_ship_run_before_its_keel_says_what_the_generation_settles(tmp_path, capsys):
