@@ -3,7 +3,8 @@ Table 2, jobs/gong_2017_keel_w{17_3,30,40,60,80}.toml, generated and run as they
 the options change, on one rank each; R^p against the keel width w beside the seed's Fig. 8.
 
     python benchmarks/keel_width_sweep.py [--widths 17.3 30 40 60 80] [--frictions 0.3 0.6]
-        [--block-scale 2] [--form-drag 0] [--fraction 0.2] [--past 30] [--end-after-peak F] [--seed 1] [--full] [--out DIR] [--report]
+        [--block-scale 2] [--form-drag 0] [--fraction 0.2] [--past 30] [--end-after-peak F] [--seed 1]
+        [--trim] [--full] [--out DIR] [--report]
 
 At the jobs' 0.3 m blocks the matrix costs about 110 h on this machine (docs/ridge_keel.md, "Still to
 build"). The options trade that against the seed's scene, each change named in what it prints:
@@ -18,6 +19,9 @@ build"). The options trade that against the seed's scene, each change named in w
   whole ridge"; the jobs run w + 80 s for the midbody's friction as well).
 - ``--end-after-peak F``: keel.end_after_peak (the jobs: 0.5; the sweep: off): each run ends sooner
   once its 6 m running average is below F times its peak, the stem past the keel.
+
+- ``--trim``: one generation, the widest keel's (80 m); each narrower keel is trimmed from its middle
+  (keel.trim_from) instead of generated (docs/ridge_keel.md, "One generation").
 
 Each width is generated once (its keel serves every friction) and each (width, friction) run once:
 results go to DIR (default runs/keel_width_sweep) as <name>.json, so a sweep stopped and started again
@@ -58,9 +62,14 @@ def _pice(*args: str) -> None:
         raise SystemExit(f"keel_width_sweep: `pice {' '.join(args)}` failed (its message is above)")
 
 
-def _tag(args) -> str:
-    """The settings every file name of the sweep carries (so that other settings never mix in)."""
-    return f"b{args.block_scale:g}_cd{args.form_drag:g}_f{args.fraction:g}_s{args.seed}"
+WIDEST = max(WIDTHS)  # --trim: the one keel generated
+
+
+def _tag(args, generated: bool = False) -> str:
+    """The settings every file name of the sweep carries (so that other settings never mix in); a keel
+    trimmed from the widest (--trim) carries "_trim", the widest's own generation does not."""
+    trim = "_trim" if args.trim and not generated else ""
+    return f"b{args.block_scale:g}_cd{args.form_drag:g}_f{args.fraction:g}_s{args.seed}{trim}"
 
 
 def sweep_job(width: float, friction: float, args, keel_file: str, name: str) -> dict:
@@ -75,6 +84,8 @@ def sweep_job(width: float, friction: float, args, keel_file: str, name: str) ->
     keel["seed"] = args.seed
     keel["file"] = keel_file
     keel["contact"]["friction"] = friction
+    if args.trim and width != WIDEST:  # the keel trimmed from the widest's generation (a generation key)
+        keel["trim_from"] = f"keel_w{_job(WIDEST, args)}_{_tag(args, generated=True)}.keel.h5"
     keel.pop("end_after_peak", None)  # the records to --past, as documented; --end-after-peak ends them sooner
     if args.end_after_peak is not None:
         keel["end_after_peak"] = args.end_after_peak
@@ -89,10 +100,14 @@ def generate(width: float, args, out: pathlib.Path) -> dict:
     from pice.io.keel_file import read_keel
     from pice.job import load_job
 
-    stem = f"keel_w{_job(width, args)}_{_tag(args)}"
+    trimmed = args.trim and width != WIDEST
+    stem = f"keel_w{_job(width, args)}_{_tag(args, generated=not trimmed)}"
     path = out / f"{stem}.toml"
-    path.write_text(toml_text(sweep_job(width, 0.3, args, f"{stem}.keel.h5", stem),
-                              header="benchmarks/keel_width_sweep.py: a keel generation"))
+    job = sweep_job(width, 0.3, args, f"{stem}.keel.h5", stem)
+    if trimmed:  # the widest keel first, then this one from its middle
+        generate(WIDEST, args, out)
+    path.write_text(toml_text(job, header="benchmarks/keel_width_sweep.py: a keel " +
+                              ("trimmed from the widest" if trimmed else "generation")))
     took = out / f"{stem}.wall"
     if not (out / f"{stem}.keel.h5").exists():
         t0 = time.perf_counter()
@@ -178,10 +193,13 @@ def main() -> None:
     ap.add_argument("--past", type=float, default=30.0)
     ap.add_argument("--end-after-peak", type=float, default=None)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--trim", action="store_true", help="trim the narrower keels from the widest's generation")
     ap.add_argument("--full", action="store_true", help="the full model (w = 17.3 m) instead of the half")
     ap.add_argument("--out", default="runs/keel_width_sweep")
     ap.add_argument("--report", action="store_true", help="print the table of the runs already in --out")
     args = ap.parse_args()
+    if args.full and args.trim:
+        ap.error("--trim: the full model's keel (l_f = 60 m) is not one of the half models' widths; drop --trim")
     if args.full and args.widths == list(WIDTHS):
         args.widths = list(FULL)
     models = FULL if args.full else WIDTHS

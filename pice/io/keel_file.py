@@ -40,7 +40,8 @@ KEEL_FORMAT = 1
 # pile with mu_i 0.3 and 0.6; the file, the run's own step and its end)
 RUN_KEYS = ("contact", "file", "step_fraction", "form_drag_coefficient", "end_after_peak")
 # keys of [keel] a keel trimmed from a wider one (keel.trim_from) may have of its own: its shape's width
-# and place, and the key that names the wider keel; the others must be the wider keel's
+# and place, the key that names the wider keel, and settle_time (a limit, which the wider keel's
+# generation met); the others must be the wider keel's
 TRIM_KEYS = ("width", "x", "trim_from", "settle_time")
 
 
