@@ -82,7 +82,12 @@ def _check_keel_to_generate(job, source) -> int:
     if job.keel.trim_from is not None:
         from .io.keel_file import read_trim_source
 
-        wider = read_trim_source(job, pathlib.Path(source).parent)  # JobError: missing, or another keel
+        folder = pathlib.Path(source).parent
+        if not (folder / job.keel.trim_from).exists():
+            print(f"{source}: valid; its keel is trimmed from {folder / job.keel.trim_from}, not generated yet: "
+                  f"pice keel on that keel's job first (its cost: pice check on it), then pice keel {source}")
+            return 0
+        wider = read_trim_source(job, folder)  # JobError: generated from another keel, or narrower
         print(f"{source}: valid; its keel file is not made yet (pice keel {source}: trimmed from "
               f"{wider['path']}, {wider['width']:g} m wide, {len(wider['x']):,} blocks, in seconds)")
         return 0

@@ -164,10 +164,16 @@ def test_a_keel_trimmed_from_a_wider_one_is_the_settled_pile_moved(micro, tmp_pa
 
 def test_a_keel_is_trimmed_only_from_a_wider_one_of_the_same_blocks_and_seed(micro, tmp_path, capsys):
     """`pice keel` of a keel.trim_from that is missing, of another seed, or narrower fails with an error
-    that names the problem and the fix, and writes no file."""
+    that names the problem and the fix, and writes no file; `pice check` of a ship run whose wider keel
+    is not made yet names it."""
     folder, _ = micro
-    assert main(["keel", str(_trimmed_job(tmp_path, "none"))]) != 0
+    none = _trimmed_job(tmp_path, "none")
+    assert main(["keel", str(none)]) != 0
     assert "wide.keel.h5': not found; generate the wider keel first (pice keel on its job)" in capsys.readouterr().err
+    ship = tmp_path / "ship.toml"  # the job is valid: `pice check` says what to make first
+    ship.write_text(none.read_text() + SHIP)
+    assert main(["check", str(ship)]) == 0
+    assert "wide.keel.h5, not generated yet: pice keel on that keel's job first" in capsys.readouterr().out
     shutil.copy(folder / "micro.keel.h5", tmp_path / "wide.keel.h5")
     for name, kw, message in [("seed2", dict(seed=2), "generated from another keel (keel.seed differ); a keel is "
                                                       "trimmed only from one of the same blocks"),
