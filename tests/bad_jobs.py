@@ -200,6 +200,9 @@ CASES = [
     case("keel_two_dashpots", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n"
          "contact = {damping = 1.75e4, damping_ratio = 0.3}\n",
          "keel.contact.damping_ratio = 0.3: damping is given too", "remove one"),
+    case("keel_step_fraction_unstable", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\nstep_fraction = 0.4\n",
+         "keel.step_fraction = 0.4: above 0.3, the largest step measured free of the blocks' corner instability",
+         "give at most 0.3"),
     case("keel_lock_without_settle_friction", NO_ICE + WATER + "[keel]\nwidth = 17.3\nlength = 30.0\n"
          "lock_speed = 0.02\n",
          "keel.lock_speed = 0.02: it ends the settling friction, and settle_friction is not given",

@@ -56,6 +56,7 @@ class KeelContactSpec(FloeContactSpec):
         return data
 
 
+MAX_STEP_FRACTION = 0.3  # keel.step_fraction's largest: measured, docs/ridge_keel.md "The step beyond 0.2"
 TRIANGLE_SLACK = 0.005  # a width this fraction short of the triangle's is the triangle (its tip cut)
 
 
@@ -90,7 +91,9 @@ class KeelSpec(Section):
     # settle_friction to the end): frictionless packing, then locked by friction to rest
     lock_speed: quantity("m/s") | None = None
     settle_time: quantity("s") = 120.0
-    step_fraction: quantity("", le=0.5) = 0.1  # the step: this fraction of the shortest contact, m_eff / c_n
+    # the step: this fraction of the lightest pair's contact time m_eff / c_n; up to 0.3, the largest measured free of
+    # the corners' instability (docs/ridge_keel.md "The step beyond 0.2"; 0.4 showed its onset)
+    step_fraction: quantity("") = 0.1
     # C_d of each block's form drag in the water (kernels/floe_hydro.py; 1 as the floes'): each block drags
     # alone, though the water in a packed rubble moving together moves with it (docs/ridge_keel.md)
     form_drag_coefficient: quantity("", gt=None, ge=0.0) = 1.0
@@ -114,6 +117,10 @@ class KeelSpec(Section):
                              f"{self.depth:g} m; give width >= {(self.width - bottom) * (1 - TRIANGLE_SLACK):.4g} m "
                              "(a triangle) or a "
                              "shallower depth")
+        if self.step_fraction > MAX_STEP_FRACTION:
+            raise ValueError(f"step_fraction: above {MAX_STEP_FRACTION:g}, the largest step measured free of the blocks' "
+                             "corner instability (docs/ridge_keel.md \"The step beyond 0.2\": 0.4 showed its onset); "
+                             f"give at most {MAX_STEP_FRACTION:g}")
         if self.lock_speed is not None:
             if self.settle_friction is None:
                 raise ValueError("lock_speed: it ends the settling friction, and settle_friction is not given; "
