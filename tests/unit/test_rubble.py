@@ -120,6 +120,28 @@ def test_the_table_2_jobs_and_a_friction_study_share_one_keel(tmp_path):
     assert [keel_water(v.job).form for v in variants] == [0.0, 1.0]
 
 
+def test_the_wider_table_2_keels_are_trimmed_from_the_80_m_keels_generation():
+    """jobs/gong_2017_keel_w{30,40,60}.toml take their keels from the 80 m job's keel file
+    (keel.trim_from; docs/ridge_keel.md "One generation"): the file named is the one `pice keel` writes
+    for the 80 m job, and the jobs' generation keys are its keys but for TRIM_KEYS, so the trim that
+    follows a generation of hours is not refused."""
+    import pathlib
+
+    from pice.io.keel_file import TRIM_KEYS, _generation_keys, keel_path
+    from pice.job import load_job
+
+    jobs = pathlib.Path(__file__).resolve().parents[2] / "jobs"
+    wide = load_job(jobs / "gong_2017_keel_w80.toml")
+    assert wide.keel.trim_from is None
+    made = _generation_keys(wide.keel)
+    for w in ("30", "40", "60"):
+        job = load_job(jobs / f"gong_2017_keel_w{w}.toml")
+        assert (jobs / job.keel.trim_from).resolve() == keel_path(wide, jobs).resolve()
+        want = _generation_keys(job.keel)
+        assert {k for k in set(made) | set(want) if made.get(k) != want.get(k)} <= set(TRIM_KEYS)
+        assert job.keel.width < wide.keel.width
+
+
 def test_the_keels_dashpot_is_a_ratio_and_sets_the_step():
     """[keel.contact] keeps the keel's defaults when only some keys are given (k_n 1e7 N/m, ratio 0.3;
     docs/ridge_keel.md "Contact"); a damping c_n given alone replaces the ratio. The step is
