@@ -21,6 +21,10 @@ the walls when the job has no bodies):
   max_offset_of_depth_pct <= 15 or 25);
 * ``mass`` [kg]: body 0's mass as the run resolved it (the file's ``body_mass``; the buoy sweep's
   objective, seed 004 section 6.2.4).
+* for a ship run through a [keel] (seed 002; postproc/resistance.py): ``keel_peak_resistance`` [N],
+  R^p, the peak of the 6 m running average of R = -f_x against the penetration; ``keel_peak_at``
+  [m], the penetration at which it peaks; ``keel_work`` [J], the work of R over the record. A study
+  of ``keel.contact.friction`` then gives Table 2's rise of R^p with mu_i as the change column.
 
 Change against the reference: 100 (v - v_ref) / |v_ref| [%]. A metric a run does not have (no
 body: offsets and tensions) is NaN.
@@ -40,7 +44,9 @@ METRICS = (("peak_load_x", "N", "peak ice load Fx"), ("peak_load_z", "N", "peak 
            ("mean_offset", "m", "mean offset"), ("max_offset", "m", "max offset"),
            ("max_fairlead_tension", "N", "max fairlead tension"), ("max_pitch", "deg", "max |pitch|"),
            ("max_roll", "deg", "max |roll|"), ("max_mooring_load", "N", "max mooring load"),
-           ("mean_mooring_load", "N", "mean mooring load"), ("mass", "kg", "mass"), *HULL_METRICS)
+           ("mean_mooring_load", "N", "mean mooring load"), ("mass", "kg", "mass"),
+           ("keel_peak_resistance", "N", "keel R^p"), ("keel_peak_at", "m", "R^p at penetration"),
+           ("keel_work", "J", "work of R"), *HULL_METRICS)
 
 
 def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
@@ -86,7 +92,20 @@ def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
         if masses is not None and len(masses):
             out["mass"] = float(masses[0])
         out.update(hull_metrics(run, settle=settle, max_offset=out["max_offset"]))
+        out.update(_keel_metrics(run))
     return out
+
+
+def _keel_metrics(run) -> dict[str, float]:
+    """R^p [N], where it peaks [m] and the work of R [J] of a ship run through a [keel]; {} otherwise."""
+    from ..postproc.resistance import peak_resistance, resistance_record, resistance_work
+
+    record = resistance_record(run)
+    if record is None or "[keel]" not in str(run.attrs.get("job_text", "")):
+        return {}
+    delta, r = record
+    peak, where = peak_resistance(delta, r)
+    return {"keel_peak_resistance": peak, "keel_peak_at": where, "keel_work": resistance_work(delta, r)}
 
 
 def change_percent(value: float, reference: float) -> float:

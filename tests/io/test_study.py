@@ -177,6 +177,31 @@ def test_metrics_without_bodies_sum_the_walls(tmp_path):
         assert math.isnan(m[name])
 
 
+def test_metrics_of_a_hand_made_keel_run(tmp_path):
+    """A ship run through a [keel] gets R^p, where it peaks and the work of R (seed 002, Fig. 5: the
+    peak of the 6 m running average of R = -f_x). The record by hand: a row each metre of penetration,
+    R = 1, 2, ..., 10 kN up to delta = 10 m and down again to 0 at 20 m. The 6 m average (the rows in
+    (delta - 6, delta], six of them) peaks at 51/6 kN, first at the window 7-12 m, i.e. delta = 12 m;
+    the work is the triangle's area, 0.5 x 20 m x 10 kN = 100 kJ (the trapezoid rule exact on it).
+    The same file without a [keel] in its job has none of them."""
+    delta = np.arange(21.0)
+    r = 1e3 * np.minimum(delta, 20.0 - delta)
+    position = np.zeros((21, 1, 3))
+    position[:, 0, 0] = 75.0 + delta
+    force = np.zeros((21, 1, 3))
+    force[:, 0, 0] = -r
+    keel_job = (pathlib.Path(__file__).resolve().parents[2] / "jobs" / "gong_2017_keel_w17_3.toml").read_text()
+    for name, text in (("keel.h5", keel_job), ("plain.h5", "")):
+        with h5py.File(tmp_path / name, "w") as f:
+            f["series/time"], f["series/body_position"], f["series/ice_force_mean"] = delta, position, force
+            f.attrs["job_text"] = text
+    m = run_metrics(tmp_path / "keel.h5")
+    assert m["keel_peak_resistance"] == pytest.approx(51.0e3 / 6.0, rel=1e-12)
+    assert m["keel_peak_at"] == 12.0 and m["keel_work"] == pytest.approx(1.0e5, rel=1e-12)
+    plain = run_metrics(tmp_path / "plain.h5")
+    assert all(math.isnan(plain[k]) for k in ("keel_peak_resistance", "keel_peak_at", "keel_work"))
+
+
 def test_change_against_the_finest_variant():
     assert change_percent(90.0, 100.0) == -10.0 and change_percent(-110.0, -100.0) == -10.0
     assert change_percent(0.0, 0.0) == 0.0 and math.isnan(change_percent(1.0, 0.0))
