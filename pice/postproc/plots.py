@@ -226,10 +226,10 @@ def mooring_load(run, out: pathlib.Path, skip: float = 0.0, baseline=None, **_):
 def keel_resistance(run, out: pathlib.Path, **_):
     """keel_resistance.png: a ship run through a [keel]: R = -f_x against the penetration, its running
     average over 6 m and the peak R^p (seed 002, Fig. 5; postproc/resistance.py). None otherwise."""
-    from .resistance import WINDOW, peak_resistance, resistance_record, running_average, water_drag_record
+    from .resistance import WINDOW, keel_record, peak_resistance, running_average, water_drag_record
 
-    record = resistance_record(run)
-    if record is None or "[keel]" not in str(run.attrs.get("job_text", "")):
+    record = keel_record(run)
+    if record is None:
         return None
     delta, r = record
     fig, axes = _figure(1)

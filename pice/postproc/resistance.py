@@ -30,6 +30,14 @@ def resistance_record(run, body: int = 0):
     return x[:, body, 0] - x[0, body, 0], -f[:, body, 0]
 
 
+def keel_record(run):
+    """(delta [m], R [N]) of a ship run through a [keel] (``resistance_record`` of body 0); None for any
+    other run (no [keel] in the job the run file keeps, or no body)."""
+    if "[keel]" not in str(run.attrs.get("job_text", "")):
+        return None
+    return resistance_record(run)
+
+
 def water_drag_record(run):
     """(delta [m], D [N]): the water's drag on all the floes against -x (the rubble held back) at each
     row; None when the run has no ``floe_water_force`` (runs before the column) or no body."""

@@ -98,10 +98,10 @@ def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
 
 def _keel_metrics(run) -> dict[str, float]:
     """R^p [N], where it peaks [m] and the work of R [J] of a ship run through a [keel]; {} otherwise."""
-    from ..postproc.resistance import peak_resistance, resistance_record, resistance_work
+    from ..postproc.resistance import keel_record, peak_resistance, resistance_work
 
-    record = resistance_record(run)
-    if record is None or "[keel]" not in str(run.attrs.get("job_text", "")):
+    record = keel_record(run)
+    if record is None:
         return {}
     delta, r = record
     peak, where = peak_resistance(delta, r)
