@@ -25,6 +25,8 @@ the walls when the job has no bodies):
   R^p, the peak of the 6 m running average of R = -f_x against the penetration; ``keel_peak_at``
   [m], the penetration at which it peaks; ``keel_work`` [J], the work of R over the record. A study
   of ``keel.contact.friction`` then gives Table 2's rise of R^p with mu_i as the change column.
+  A keel run has only these three: its ship moves as prescribed, so the offsets, attitudes, drafts
+  and mass are the job's input, and its ice load is R, which they describe.
 
 Change against the reference: 100 (v - v_ref) / |v_ref| [%]. A metric a run does not have (no
 body: offsets and tensions) is NaN.
@@ -92,7 +94,10 @@ def run_metrics(path, *, settle: float = 0.0) -> dict[str, float]:
         if masses is not None and len(masses):
             out["mass"] = float(masses[0])
         out.update(hull_metrics(run, settle=settle, max_offset=out["max_offset"]))
-        out.update(_keel_metrics(run))
+        keel = _keel_metrics(run)
+        if keel:  # the ship's motion is prescribed: only R's metrics mean something (docstring)
+            out = dict.fromkeys(out, nan)
+            out.update(keel)
     return out
 
 

@@ -183,7 +183,8 @@ def test_metrics_of_a_hand_made_keel_run(tmp_path):
     R = 1, 2, ..., 10 kN up to delta = 10 m and down again to 0 at 20 m. The 6 m average (the rows in
     (delta - 6, delta], six of them) peaks at 51/6 kN, first at the window 7-12 m, i.e. delta = 12 m;
     the work is the triangle's area, 0.5 x 20 m x 10 kN = 100 kJ (the trapezoid rule exact on it).
-    The same file without a [keel] in its job has none of them."""
+    The same file without a [keel] in its job has none of them, and the keel run has none of the
+    moored body's metrics (its ship moves as prescribed; the study table leaves their columns out)."""
     delta = np.arange(21.0)
     r = 1e3 * np.minimum(delta, 20.0 - delta)
     position = np.zeros((21, 1, 3))
@@ -194,12 +195,16 @@ def test_metrics_of_a_hand_made_keel_run(tmp_path):
     for name, text in (("keel.h5", keel_job), ("plain.h5", "")):
         with h5py.File(tmp_path / name, "w") as f:
             f["series/time"], f["series/body_position"], f["series/ice_force_mean"] = delta, position, force
+            f["series/ice_force"] = force
             f.attrs["job_text"] = text
     m = run_metrics(tmp_path / "keel.h5")
     assert m["keel_peak_resistance"] == pytest.approx(51.0e3 / 6.0, rel=1e-12)
     assert m["keel_peak_at"] == 12.0 and m["keel_work"] == pytest.approx(1.0e5, rel=1e-12)
+    keel_names = ("keel_peak_resistance", "keel_peak_at", "keel_work")
+    assert all(math.isnan(v) for k, v in m.items() if k not in keel_names)
     plain = run_metrics(tmp_path / "plain.h5")
-    assert all(math.isnan(plain[k]) for k in ("keel_peak_resistance", "keel_peak_at", "keel_work"))
+    assert all(math.isnan(plain[k]) for k in keel_names)
+    assert plain["peak_load_x"] == 0.0 and plain["max_offset"] == 20.0  # the moored body's metrics
 
 
 def test_change_against_the_finest_variant():
