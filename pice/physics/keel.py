@@ -109,21 +109,25 @@ def keel_step(keel, floes: Floes) -> float:
     return min(0.5 * stable, accurate)
 
 
-# the measured generation of jobs/gong_2017_keel_w17_3.toml on the project's 2-core machine: blocks
-# released, wall time on 2 ranks [s] (docs/ridge_keel.md)
-NARROW_KEEL_GENERATION = (10_750, 8400.0)
+# a measured generation on the project's 2-core machine, nothing else running: blocks released, its step
+# [s], wall time on 2 ranks [s]. The narrow keel kept in jobs/keels/, at step_fraction 0.1 (docs/ridge_keel.md,
+# "The narrow keel kept in the repository"; the 80 m keel's generation at 0.3, 4.6 times the blocks and 3
+# times the step, ran at this rate to within 10 %: "The 80 m keel on the jobs' blocks")
+MEASURED_GENERATION = (10_750, 2.914e-4, 7346.0)
 
 
 def generation_facts(job) -> dict:
     """What `pice check` says of a keel not yet generated: the blocks released, their mass range [kg],
     the settling's time step [s], the limit of the settling's time [s], and a rough wall time on 2
-    ranks [h], in proportion to the blocks from NARROW_KEEL_GENERATION."""
+    ranks [h]: MEASURED_GENERATION's, in proportion to the blocks and to the steps (a pile settles in
+    about the same simulated time at any width: its depth sets it)."""
     keel = job.keel
     rects, x, q = release_blocks(keel)
     floes = blocks_as_floes(keel, rects, x, q, settling_law(keel), keel_water(job))
-    blocks, wall = NARROW_KEEL_GENERATION
+    dt = keel_step(keel, floes)
+    blocks, dt_measured, wall = MEASURED_GENERATION
     return dict(released=len(rects), mass_range=(float(floes.mass.min()), float(floes.mass.max())),
-                dt=keel_step(keel, floes), settle_time=keel.settle_time, hours=wall / 3600.0 * len(rects) / blocks)
+                dt=dt, settle_time=keel.settle_time, hours=wall / 3600.0 * len(rects) / blocks * dt_measured / dt)
 
 
 def settle_steps(system: FloeSystem, n: int, t: float, dt: float) -> float:
