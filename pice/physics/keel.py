@@ -112,7 +112,7 @@ def keel_step(keel, floes: Floes) -> float:
 # a measured generation on the project's 2-core machine, nothing else running: blocks released, its step
 # [s], wall time on 2 ranks [s]. The narrow keel kept in jobs/keels/, at step_fraction 0.1 (docs/ridge_keel.md,
 # "The narrow keel kept in the repository"). The 80 m keel's at 0.3, 4.6 times the blocks and 3 times the
-# step, estimated at 3.1 h from it, reached 45.5 s of its about 50 s in 2.1 h ("The 80 m keel on the jobs'
+# step, estimated at 3.1 h from it, took about 2.8 h ("The 80 m keel on the jobs'
 # blocks")
 MEASURED_GENERATION = (10_750, 2.914e-4, 7346.0)
 
