@@ -100,7 +100,7 @@ def porosity(keel, centres: np.ndarray, attitudes: np.ndarray, rects: np.ndarray
     not from the cover or the ends), sampled at ``samples`` random points (Monte Carlo; standard
     error sqrt(p (1 - p) / samples), 0.001 at the default): a point is ice when it lies inside a
     block (each block's box in its own frame)."""
-    from ..kernels.geometry import rotation_matrix
+    from ..kernels.geometry import points_in_boxes
 
     rng = np.random.default_rng(seed)
     tan = math.tan(math.radians(keel.pile_angle))
@@ -112,13 +112,8 @@ def porosity(keel, centres: np.ndarray, attitudes: np.ndarray, rects: np.ndarray
     pts = pts[inside_keel(shrunk, pts)][:samples]
     if not len(pts) or tan <= 0.0:
         raise ValueError("the keel's core holds no sample point: a smaller core")
-    ice = np.zeros(len(pts), dtype=bool)
     half = np.column_stack([np.abs(rects[:, :, 0]).max(axis=1), np.abs(rects[:, :, 1]).max(axis=1),
                             np.full(len(rects), 0.5 * thickness)])
-    reach = np.linalg.norm(half, axis=1)
-    for k in range(len(centres)):
-        near = np.flatnonzero(np.all(np.abs(pts - centres[k]) <= reach[k], axis=1))
-        if len(near):
-            local = (pts[near] - centres[k]) @ rotation_matrix(attitudes[k])  # into the block's frame
-            ice[near[np.all(np.abs(local) <= half[k], axis=1)]] = True
+    ice = points_in_boxes(np.ascontiguousarray(pts, dtype=float), np.ascontiguousarray(centres, dtype=float),
+                          np.ascontiguousarray(attitudes, dtype=float), half)
     return 1.0 - float(ice.mean())
