@@ -2,7 +2,7 @@
 ``study.png`` (study/plot.py), from the study dict of study/runner.py with each variant's metrics
 and their change against the reference (study/metrics.py).
 
-Values are in SI units in the CSV and JSON (N, m, s); the table shows forces in kN. A metric a run
+Values are in SI units in the CSV and JSON (N, m, s, J); the table shows forces in kN and work in kJ. A metric a run
 does not have (no body: offsets and tensions) is NaN in the CSV and null in the JSON; the table
 leaves out a metric no variant has.
 """
@@ -18,7 +18,8 @@ from .metrics import METRICS
 from .plot import plot_study
 from .variants import show_value
 
-_TABLE_SCALE = {"N": (1e3, "kN"), "m": (1.0, "m"), "deg": (1.0, "deg"), "pct": (1.0, "%"), "kg": (1e3, "t")}
+_TABLE_SCALE = {"N": (1e3, "kN"), "m": (1.0, "m"), "deg": (1.0, "deg"), "pct": (1.0, "%"), "kg": (1e3, "t"),
+                "J": (1e3, "kJ")}
 
 
 def study_table(study: dict) -> list[str]:

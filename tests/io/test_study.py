@@ -30,6 +30,7 @@ from pice.errors import JobError
 from pice.io.toml_text import toml_text
 from pice.job import load_job, parse_job
 from pice.study.metrics import change_percent, compare, run_metrics
+from pice.study.report import study_table
 from pice.study.variants import key_path, make_variants, parse_vary, split_values, toml_value
 
 # the slope job of tests/io/test_run_file.py, 0.05 s: 22 elements, touching the slope within 0.05 s
@@ -205,6 +206,17 @@ def test_metrics_of_a_hand_made_keel_run(tmp_path):
     plain = run_metrics(tmp_path / "plain.h5")
     assert all(math.isnan(plain[k]) for k in keel_names)
     assert plain["peak_load_x"] == 0.0 and plain["max_offset"] == 20.0  # the moored body's metrics
+    # the printed table of a keel study (the w = 30 m study's end crashed on the work's unit, J): the
+    # keel's three columns in kN, m and kJ, the moored body's left out
+    rows = [{"variant": k, "values": {"keel.contact.friction": mu}, "wall_time": 1.0, "particle_steps": 10,
+             "metrics": dict(m), "error": None} for k, mu in enumerate((0.3, 0.6))]
+    compare(rows, reference=0)
+    study = {"job": "keel.toml", "varied": ["keel.contact.friction"], "reference": 0, "reference_rule": "--reference",
+             "variants": rows, "settle": 0.0, "loads_on": "the ship", "criteria": []}
+    lines = study_table(study)
+    head, first = next((lines[i], lines[i + 1]) for i, t in enumerate(lines) if t.lstrip().startswith("variant"))
+    assert "keel R^p [kN]" in head and "work of R [kJ]" in head and "offset" not in head
+    assert "8.5 (ref)" in first and "100 (ref)" in first and "12 (ref)" in first
 
 
 def test_change_against_the_finest_variant():
