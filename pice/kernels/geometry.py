@@ -80,7 +80,8 @@ def points_in_boxes(points, centres, attitudes, half):
     """Which of ``points`` (n x 3) [m] lie inside any of the oriented boxes, each of half-sizes
     ``half`` (m x 3) [m] in its own frame, centred at ``centres`` (m x 3) [m] and turned by the
     quaternions ``attitudes`` (m x 4): a bool per point. The points are binned on a grid of the
-    largest box's half-diagonal, so each box tests only the points near it (O(n + m), not O(n m))."""
+    largest box's half-diagonal (coarser where the points are sparse, so the grid holds at most about
+    8 n cells), so each box tests only the points near it (O(n + m), not O(n m))."""
     n, m = points.shape[0], centres.shape[0]
     inside = np.zeros(n, dtype=np.bool_)
     if n == 0 or m == 0:
@@ -88,10 +89,15 @@ def points_in_boxes(points, centres, attitudes, half):
     reach = np.sqrt(half[:, 0] ** 2 + half[:, 1] ** 2 + half[:, 2] ** 2)
     h = max(reach.max(), 1e-9)
     lo = np.empty(3)
-    dims = np.empty(3, dtype=np.int64)
+    span = np.empty(3)
     for a in range(3):
         lo[a] = points[:, a].min()
-        dims[a] = int((points[:, a].max() - lo[a]) / h) + 1
+        span[a] = points[:, a].max() - lo[a]
+    while (span[0] / h + 1.0) * (span[1] / h + 1.0) * (span[2] / h + 1.0) > 8.0 * n + 1000.0:
+        h *= 2.0  # sparse points over a wide region: coarser cells, so the grid stays O(n)
+    dims = np.empty(3, dtype=np.int64)
+    for a in range(3):
+        dims[a] = int(span[a] / h) + 1
     cell = np.empty(n, dtype=np.int64)
     for i in range(n):
         ix = int((points[i, 0] - lo[0]) / h)
