@@ -219,6 +219,16 @@ def test_metrics_of_a_hand_made_keel_run(tmp_path):
     assert "8.5 (ref)" in first and "100 (ref)" in first and "12 (ref)" in first
 
 
+def test_every_metric_has_a_unit_the_table_can_show():
+    """The printed table scales each metric by its unit (N to kN, J to kJ, ...): a metric whose unit
+    it does not know would crash the study at its very end, after all its runs (as keel_work's J did
+    at the end of a 1.5 h study), so every unit in METRICS must be in the table's scales."""
+    from pice.study.metrics import METRICS
+    from pice.study.report import _TABLE_SCALE
+
+    assert {unit for _, unit, _ in METRICS} <= set(_TABLE_SCALE)
+
+
 def test_change_against_the_finest_variant():
     assert change_percent(90.0, 100.0) == -10.0 and change_percent(-110.0, -100.0) == -10.0
     assert change_percent(0.0, 0.0) == 0.0 and math.isnan(change_percent(1.0, 0.0))
