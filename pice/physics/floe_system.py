@@ -213,6 +213,17 @@ class FloeSystem:
         first = sum(len(p) for p in self.body_pieces)
         return self.f.structure_load[first:].copy()
 
+    def piece_forces(self) -> np.ndarray:
+        """(n_bodies, most pieces, 3) the floes' force [N] on each convex piece of each body's hull, in
+        the order of body_pieces (a ship's: bow, midbody, stern; platform/ship.py), zeros past a body's
+        last piece. Their sum over the pieces is the body's load from the floes (``body_loads``)."""
+        most = max((len(p) for p in self.body_pieces), default=0)
+        out = np.zeros((len(self.body_pieces), most, 3))
+        for k, pieces in enumerate(self.body_pieces):
+            for j, s in enumerate(pieces):
+                out[k, j] = self.f.structure_load[s, :3]
+        return out
+
     def kinetic_energy(self) -> float:
         """Translational and rotational kinetic energy of all floes [J], with the water's added mass."""
         f = self.f
@@ -222,11 +233,14 @@ class FloeSystem:
     def series_entries(self) -> dict:
         """The floes' columns of a series row (the same on every rank)."""
         f = self.f
-        return {"floe_contacts": float(self.contacts), "floe_structure_contacts": float(self.structure_contacts),
-                "floe_crushing_contacts": float(self.plastic), "floe_kinetic_energy": self.kinetic_energy(),
-                "floe_mean_velocity": f.v.mean(axis=0) if self.n else np.zeros(3),
-                "floe_wall_force": self.wall_loads()[:, :3],
-                "floe_water_force": self.water.sum(axis=0)}
+        row = {"floe_contacts": float(self.contacts), "floe_structure_contacts": float(self.structure_contacts),
+               "floe_crushing_contacts": float(self.plastic), "floe_kinetic_energy": self.kinetic_energy(),
+               "floe_mean_velocity": f.v.mean(axis=0) if self.n else np.zeros(3),
+               "floe_wall_force": self.wall_loads()[:, :3],
+               "floe_water_force": self.water.sum(axis=0)}
+        if any(len(p) > 1 for p in self.body_pieces):  # a hull of several pieces: the load on each
+            row["body_piece_force"] = self.piece_forces()
+        return row
 
 
 def _by_floe(parts: list[np.ndarray], floe) -> np.ndarray:

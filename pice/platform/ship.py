@@ -32,6 +32,7 @@ import numpy as np
 from .hulls import merge
 
 FREEBOARD = 5.5  # [m] the default depth - draft (a loaded tanker's; the seed gives none)
+PIECES = ("bow", "midbody", "stern")  # ship_pieces' order
 
 
 def entrance(*, breadth: float, waterline_angle: float) -> float:

@@ -11,7 +11,8 @@
   (postproc/mooring.py);
 * ``keel_resistance.png``: a ship run through a [keel]: R = -f_x against the penetration, its 6 m
   running average and peak R^p, as seed 002's Fig. 5, and the water's drag on the rubble, the part of
-  R that moves it through the water (postproc/resistance.py);
+  R that moves it through the water, and the part on each piece of a ship's hull (its bow and
+  midbody: postproc/resistance.py);
 * ``energies.png``: the change of each energy since t = 0 (kJ);
 * ``broken_bonds.png``: cumulative broken bonds against time, by failure mode (from the event log).
 
@@ -226,7 +227,8 @@ def mooring_load(run, out: pathlib.Path, skip: float = 0.0, baseline=None, **_):
 def keel_resistance(run, out: pathlib.Path, **_):
     """keel_resistance.png: a ship run through a [keel]: R = -f_x against the penetration, its running
     average over 6 m and the peak R^p (seed 002, Fig. 5; postproc/resistance.py). None otherwise."""
-    from .resistance import WINDOW, keel_record, peak_resistance, running_average, water_drag_record
+    from .resistance import (WINDOW, keel_record, peak_resistance, piece_resistance_record, running_average,
+                             water_drag_record)
 
     record = keel_record(run)
     if record is None:
@@ -243,6 +245,14 @@ def keel_resistance(run, out: pathlib.Path, **_):
     if drag is not None:  # the part of R that moves the rubble through the water (postproc/resistance.py)
         ax.plot(drag[0], running_average(*drag) / 1e3, "--", lw=1.2,
                 label=f"the water's drag on the rubble along -x, running average over {WINDOW:g} m")
+    pieces = piece_resistance_record(run)
+    if pieces is not None:  # where on the hull R acts: a ship's bow and midbody (Malmberg's two terms)
+        d, rp, names = pieces
+        for k, name in enumerate(names):
+            ok = np.isfinite(rp[:, k])
+            if ok.any() and np.any(rp[ok, k] != 0.0):
+                ax.plot(d[ok], running_average(d[ok], rp[ok, k]) / 1e3, ":", lw=1.2,
+                        label=f"on the {name}, running average over {WINDOW:g} m")
     ax.set_xlabel("penetration delta [m]")
     ax.set_ylabel("keel resistance [kN]")
     ax.grid(alpha=0.3)

@@ -11,6 +11,10 @@ The water's share: along x the rubble is pushed by the ship (R) and held by the 
 cover's and the walls' friction (its buoyancy and weight are vertical). ``water_drag_record`` gives
 the drag, minus the x component of the series' ``floe_water_force`` (at the row's step, not a mean):
 the part of R spent moving the rubble through the water rather than failing it.
+
+Where R acts: ``piece_resistance_record`` splits it over the hull's convex pieces, for a ship its bow
+(Malmberg's first term, the rubble failed and pushed down by the bow) and its parallel midbody (the
+second, friction along the side and the bottom).
 """
 
 from __future__ import annotations
@@ -45,6 +49,28 @@ def water_drag_record(run):
     if x is None or w is None or x.ndim != 3 or x.shape[1] == 0:
         return None
     return x[:, 0, 0] - x[0, 0, 0], -w[:, 0]
+
+
+def piece_resistance_record(run, body: int = 0):
+    """(delta [m], R of each hull piece [N] (rows, pieces), the pieces' names): bodies[body]'s resistance
+    split over its hull's convex pieces (series ``body_piece_force``, at the row's step, not a mean; a
+    ship's bow, midbody and stern, Malmberg's bow and midbody terms). Rows written before the column
+    existed (a run continued from an older pice's checkpoint: zeros, the ice's load not) are NaN. None
+    when the run has no such column (a hull of one piece) or no body."""
+    x, f = run.series("body_position"), run.series("body_piece_force")
+    if x is None or f is None or x.ndim != 3 or x.shape[1] <= body or f.shape[1] <= body:
+        return None
+    r = -f[:, body, :, 0]
+    ice = run.series("ice_force")
+    if ice is not None:
+        r[(f[:, body] == 0.0).all(axis=(1, 2)) & (ice[:, body, 0] != 0.0)] = np.nan
+    job = run.job
+    hull = job.bodies[body].hull if job is not None and len(job.bodies) > body else None
+    from ..platform.ship import PIECES
+
+    names = list(PIECES) if hull is not None and hull.type == "ship" and r.shape[1] == len(PIECES) else \
+        [f"piece {k}" for k in range(r.shape[1])]
+    return x[:, body, 0] - x[0, body, 0], r, names
 
 
 def running_average(delta: np.ndarray, r: np.ndarray, window: float = WINDOW) -> np.ndarray:

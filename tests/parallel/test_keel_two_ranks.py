@@ -11,7 +11,7 @@ import numpy as np
 from launch import BIN, pice_run, run_cmd
 from scenes import MICRO_KEEL, ship_ends_job
 
-KEYS = ("time", "ice_force_mean", "body_position", "floe_contacts", "floe_wall_force")
+KEYS = ("time", "ice_force_mean", "body_position", "floe_contacts", "floe_wall_force", "body_piece_force")
 
 
 def _series(path):

@@ -23,7 +23,8 @@ from pice.io.keel_file import keel_path, read_keel
 from pice.job import load_job
 from pice.kernels.floe_motion import world_polyhedra
 from pice.kernels.polyhedra import prism
-from pice.postproc.resistance import past_peak, peak_resistance, resistance_work, running_average, stem_at
+from pice.postproc.resistance import (past_peak, peak_resistance, piece_resistance_record, resistance_work,
+                                      running_average, stem_at)
 from scenes import MICRO_KEEL as KEEL
 from scenes import ship_ends_job
 
@@ -269,6 +270,28 @@ def test_the_work_of_a_linear_record():
     assert resistance_work(delta, 1000.0 * delta) == pytest.approx(2.0e5, rel=1e-12)
 
 
+def test_rows_before_the_piece_column_existed_are_missing_not_zero():
+    """A run continued from an older pice's checkpoint has body_piece_force zero-filled before the
+    restart (io/series_rows.append_rows). Those rows, where the ice loads the body, are NaN in the split
+    of R; a row with no load at all stays 0; a hull that is not a ship names its pieces by number."""
+    from types import SimpleNamespace
+
+    pos = np.zeros((4, 1, 3))
+    pos[:, 0, 0] = [0.0, 1.0, 2.0, 3.0]
+    pieces = np.zeros((4, 1, 2, 3))
+    pieces[2:, 0, :, 0] = [[-5.0, -2.0], [-4.0, -1.0]]  # the rows after the restart
+    ice = pieces.sum(axis=2)
+    ice[1, 0, 0] = -6.0  # before it: a load, its split not written
+    series = {"body_position": pos, "body_piece_force": pieces, "ice_force": ice}
+    run = SimpleNamespace(series=series.get, job=None)
+    d, rp, names = piece_resistance_record(run)
+    np.testing.assert_array_equal(d, [0.0, 1.0, 2.0, 3.0])
+    assert names == ["piece 0", "piece 1"]
+    np.testing.assert_array_equal(rp[0], [0.0, 0.0])
+    assert np.isnan(rp[1]).all()
+    np.testing.assert_array_equal(rp[2:], [[5.0, 2.0], [4.0, 1.0]])
+
+
 def test_an_unsettled_generation_is_continued_where_it_stopped(micro, tmp_path, capsys):
     """`pice keel` with a keel.settle_time too short to settle is refused (exit 2), and leaves its
     generation checkpoint (io/keel_file.py); the same job with the default settle_time continues from
@@ -464,6 +487,20 @@ def test_a_ship_run_ends_once_its_resistance_is_past_the_peak(micro, capsys):
         assert again.attrs["restarted_from"]
         np.testing.assert_array_equal(again.series("time"), first.series("time"))
         np.testing.assert_array_equal(again.series("ice_force_mean"), first.series("ice_force_mean"))
+    with open_run(out) as run:  # where R acts: the pieces of the hull
+        d, rp, names = piece_resistance_record(run)
+        ice = run.series("ice_force")[:, 0, 0]
+    assert names == ["bow", "midbody", "stern"]
+    # the pieces' loads sum to the body's (bodies' loads add the pieces' in the same order: to round-off)
+    np.testing.assert_allclose(-rp.sum(axis=1), ice, rtol=1e-12, atol=1e-9)
+    # the midbody's shoulder is 2.14 m aft of the stem on the waterline (1 / tan 25 deg), at x = -5.14 m
+    # at delta = 0, and further aft below it (the rake): it meets the keel's nearest blocks (x >= -1.75 m
+    # at the cover) after delta = 3.39 m, less a block's half length (0.7 m). Until then the bow alone
+    # carries R; a swapped piece order would show the bow's load as the midbody's.
+    # (measured: the bow from delta = 2.37 m, the midbody from 4.67 m)
+    early = d < 2.6
+    assert np.all(rp[early, 1] == 0.0) and np.all(rp[early, 2] == 0.0)
+    assert rp[early, 0].max() > 100.0  # [N]: the bow already in the rubble (1.2 kN, measured)
     assert delta[-1] < 25.0  # ended early (1 m/s)
     assert past_peak(delta, r, beyond=4.75, drop=0.5)
     assert not past_peak(delta[:-1], r[:-1], beyond=4.75, drop=0.5)  # and not a row later than it had to
