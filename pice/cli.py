@@ -23,6 +23,16 @@ def _cmd_run(args) -> int:
     return 0
 
 
+def _over_calls(summary: dict) -> str:
+    """The run's time over all its calls, when this call continued it from a checkpoint."""
+    if summary.get("steps_run", summary["steps"]) == summary["steps"]:
+        return ""
+    total = summary.get("wall_time_total", float("nan"))
+    if total != total:
+        return "; this call only (the run continued from a checkpoint that did not keep the time before it)"
+    return f"; {total:.1f} s to t = {summary['time']:.4g} s over the run's calls from checkpoints"
+
+
 def _summary_lines(summary: dict, job) -> list[str]:
     """The end-of-run block: output, steps, wall time and throughput, broken bonds, peak wall loads."""
     out = pathlib.Path(summary["output"])
@@ -34,7 +44,8 @@ def _summary_lines(summary: dict, job) -> list[str]:
              f"  wall time     {summary['wall_time']:.1f} s, "
              + (f"{summary['particle_steps_per_second']:.3g} particle-steps/s" if summary["elements"] else
                 f"{summary.get('floe_steps_per_second', 0.0):.3g} floe-steps/s" if summary.get("floes") else
-                f"{summary['steps'] / max(summary['wall_time'], 1e-9):.3g} steps/s")]
+                f"{summary.get('steps_run', summary['steps']) / max(summary['wall_time'], 1e-9):.3g} steps/s")
+             + _over_calls(summary)]
     if summary["elements"]:
         lines.append(f"  broken bonds  {summary['broken_bonds']:,}")
     import numpy as np

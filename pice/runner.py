@@ -63,6 +63,10 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
     created. Checkpoints go to run.checkpoint (default <output>.ckpt.h5) every run.checkpoint_every
     simulated seconds, and when SIGINT/SIGTERM asks the run to stop (RunInterrupted, exit status 130).
     ``poll``: called with no argument after every chunk of steps (a study's queue served between steps).
+
+    The summary's ``wall_time`` [s] and ``steps_run`` are this call's time loop; ``steps`` and
+    ``wall_time_total`` [s] count from t = 0 over every call of a run continued from checkpoints (NaN
+    when one of them was written by a pice that did not keep it).
     """
     progress = sys.stderr if progress == "stderr" else progress  # the stream at the call, not at import
     from .io.checkpoint import default_path
@@ -82,6 +86,7 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
     every = job.run.series_every
     out = RunOutput(sim, output, job, overwrite, restart=restart)
     status = "failed"
+    wall0 = sim.c.wall_time  # the earlier calls' (a restart), NaN when its checkpoint did not keep it
     t0 = wall.perf_counter()
     last_report = t0
     snap_index = out.snapshots_kept  # 0, or after a restart the snapshots up to the checkpoint
@@ -126,9 +131,11 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
                 break
             scheduled = ckpt_every and (sim.c.step % ckpt_every == 0 or sim.c.step == total)
             if scheduled:
+                sim.c.wall_time = wall0 + (wall.perf_counter() - t0)
                 out.checkpoint(ckpt_path)
             if stop.requested():
                 if not scheduled:
+                    sim.c.wall_time = wall0 + (wall.perf_counter() - t0)
                     out.checkpoint(ckpt_path)
                 status = "interrupted"
                 raise RunInterrupted(f"interrupted at step {sim.c.step} (t = {sim.c.time:.6g} s); checkpoint "
@@ -155,9 +162,11 @@ def run_job(job, *, output, overwrite: bool = False, base_dir=None, progress="st
         stop.restore()
         out.finish(status)  # the last events, the status attribute, the XDMF file beside the run file
     elapsed = wall.perf_counter() - t0
+    sim.c.wall_time = wall0 + elapsed
     elements = int(comm.sum(sim.p.nlocal))
     broken = int(comm.sum(sim.c.broken))
     return dict(output=str(output), steps=sim.c.step, time=sim.c.time, wall_time=elapsed,
+                steps_run=sim.c.step - step0, wall_time_total=comm.bcast(sim.c.wall_time),
                 particle_steps_per_second=elements * (sim.c.step - step0) / max(elapsed, 1e-9),
                 broken_bonds=broken, elements=elements, ranks=comm.size, rank=comm.rank,
                 floes=sim.floes.n if sim.floes is not None else 0,

@@ -57,6 +57,9 @@ class Counters:
     contact_energy: float = 0.0
     wall_energy: float = 0.0
     events: list = field(default_factory=list)  # (step, time, gid_a, gid_b, mode)
+    # [s] the time loop's wall time to this step over all the run's calls (runner.run_job; rank 0's is
+    # checkpointed); NaN when the run continued from a checkpoint that did not keep it (pice before 2026-12-07)
+    wall_time: float = 0.0
 
 
 class Simulation:

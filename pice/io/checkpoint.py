@@ -3,7 +3,8 @@
 Layout::
 
     /                attrs: format, format_version, pice_version, ranks, step, time, dt, job_text,
-                     job_source, physics (the job without [run] and [parallel], as JSON), written
+                     job_source, physics (the job without [run] and [parallel], as JSON), written,
+                     wall_time (the time loop's seconds to this step, over the run's calls)
     /particles/<a>   every owned particle's per-particle arrays (state.PER_PARTICLE: positions,
                      velocities, bond and contact histories, force and torque of the last step),
                      sorted by gid
@@ -154,6 +155,7 @@ def _write_file(sim, tmp: pathlib.Path, gid, order, parts, counters, events, flo
         a["ranks"] = sim.comm.size
         a["step"] = sim.c.step
         a["time"] = sim.c.time
+        a["wall_time"] = sim.c.wall_time
         a["dt"] = sim.dt
         a["job_text"] = sim.job.text
         a["job_source"] = sim.job.source

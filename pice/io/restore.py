@@ -96,6 +96,7 @@ def _restore_counters(sim, a, k, same_layout: bool, data) -> None:
     comm, c, r = sim.comm, sim.c, sim.comm.rank
     c.step = int(a["step"])
     c.time = float(a["time"])
+    c.wall_time = float(a.get("wall_time", float("nan")))  # checkpoints before it: unknown
     if same_layout:
         c.broken, c.contacts = int(k["broken"][r]), int(k["contacts"][r])
         c.contact_energy, c.wall_energy = float(k["contact_energy"][r]), float(k["wall_energy"][r])

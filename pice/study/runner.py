@@ -4,8 +4,10 @@ anything runs), then run one after the other inside this MPI job (run_job is col
 (study/metrics.py) and writes the report (study/report.py).
 
 Cost: ``wall_time`` [s] of the time loop as run_job measures it (set-up excluded; every variant is
-set up and stepped twice beforehand, so numba's compile time falls on none of them) and
-``particle_steps`` = elements x steps.
+set up and stepped twice beforehand, so numba's compile time falls on none of them), from t = 0 over
+every call of a variant continued from its checkpoint (a killed or stopped study; NaN when one of its
+checkpoints was written by a pice that did not keep the time, ``wall_time_last_call`` then the last
+call's), and ``particle_steps`` = (elements + floes + mooring nodes) x steps.
 """
 
 from __future__ import annotations
@@ -299,11 +301,12 @@ def _run_variant(v: Variant, refused: str | None, run_job, *, out_dir, progress,
         if progress is not None:
             print(f"pice study: variant {v.index} failed: {row['error']}", file=progress, flush=True)
         return row
-    row.update(busy_time=time.perf_counter() - began, ended=time.time(), wall_time=summary["wall_time"],
-               steps=summary["steps"], elements=summary["elements"],
-               particle_steps=(summary["elements"] + summary.get("floes", 0) + summary.get("mooring_node_updates", 0))
-               * summary["steps"],
-               particle_steps_per_second=summary["particle_steps_per_second"], ranks=summary["ranks"])
+    particles = summary["elements"] + summary.get("floes", 0) + summary.get("mooring_node_updates", 0)
+    row.update(busy_time=time.perf_counter() - began, ended=time.time(), wall_time=summary["wall_time_total"],
+               wall_time_last_call=summary["wall_time"], steps=summary["steps"], elements=summary["elements"],
+               floes=summary.get("floes", 0), particle_steps=particles * summary["steps"],
+               particle_steps_per_second=particles * summary["steps_run"] / max(summary["wall_time"], 1e-9),
+               ranks=summary["ranks"])
     return row
 
 

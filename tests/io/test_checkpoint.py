@@ -128,3 +128,31 @@ def test_unwritable_checkpoint_stops_the_run_with_a_clear_error(tmp_path, capsys
     assert "cannot write the checkpoint" in capsys.readouterr().err
     with h5py.File(out) as f:  # the run file keeps its rows and says why it stopped
         assert f.attrs["status"] == "failed" and f["series/step"][-1] == 10
+
+
+def test_a_continued_run_counts_its_wall_time_over_its_calls(tmp_path, capsys):
+    """The time loop's wall time is kept in each checkpoint, so a run continued from one reports its
+    time from t = 0 (a study's cost of a killed and continued variant, not only its last call's): the
+    second call's total is the checkpoint's plus its own, and its steps are its own for the rate. A
+    checkpoint of a pice that did not keep it leaves the total unknown (NaN), said as such."""
+    from pice.runner import run_job
+
+    out, ckpt = tmp_path / "tiny.h5", tmp_path / "tiny.ckpt.h5"
+    first = run_job(_tiny(**{"run.checkpoint_every": 0.01}), output=str(out), progress=None)
+    assert first["steps"] == first["steps_run"] == 100 and first["wall_time_total"] == first["wall_time"]
+    kept = read_checkpoint(ckpt)["attrs"]["wall_time"]  # written at the last step, before the loop's end
+    assert 0.0 < kept <= first["wall_time"]
+    longer = _tiny(**{"run.duration": 0.03, "run.checkpoint_every": 0.0})
+    second = run_job(longer, output=str(out), progress=None, restart=str(ckpt))
+    assert second["steps"] == 150 and second["steps_run"] == 50
+    assert second["wall_time_total"] == pytest.approx(kept + second["wall_time"], rel=1e-12)
+    from pice.cli import _summary_lines
+
+    line = next(s for s in _summary_lines(second, longer) if "wall time" in s)
+    assert f"{second['wall_time_total']:.1f} s to t = 0.03 s over the run's calls" in line
+    with h5py.File(ckpt, "r+") as f:  # as an older pice wrote it
+        del f.attrs["wall_time"]
+    again = run_job(longer, output=str(out), progress=None, restart=str(ckpt))
+    assert np.isnan(again["wall_time_total"]) and again["steps_run"] == 50
+    line = next(s for s in _summary_lines(again, longer) if "wall time" in s)
+    assert "this call only" in line

@@ -5,10 +5,12 @@ agree bit for bit (the restart contract of tests/parallel/test_restart_after_kil
 
 from __future__ import annotations
 
+import json
 import time
 
 import h5py
 import numpy as np
+import pytest
 from launch import BIN, kill9, on_ranks, run_cmd, start
 from scenes import slope_job
 
@@ -32,8 +34,13 @@ def test_sigkill_mid_variant_then_the_study_continues_it_from_its_checkpoint(tmp
         time.sleep(0.05)
     assert proc.poll() is None, "the study ended before it could be killed"
     kill9(proc)
+    with h5py.File(ckpt) as f:  # the time loop's seconds before the kill, to the checkpoint's step
+        before = float(f.attrs["wall_time"])
     res = run_cmd(cmd)
     assert f"variant 0: continued from its checkpoint {ckpt}" in res.stderr, res.stderr
+    # its cost counts both calls (the checkpoint's time, then the last call's), not the last one alone
+    row = json.loads((out / "slope_0.outcome.json").read_text())
+    assert before > 0.0 and row["wall_time"] == pytest.approx(before + row["wall_time_last_call"], rel=1e-12)
     steps, ke, wall = _series(out / "slope_0.h5")
     whole = tmp_path / "whole"
     run_cmd(cmd[:-1] + [str(whole)])
