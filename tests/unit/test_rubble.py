@@ -120,8 +120,9 @@ def test_points_in_boxes_agrees_with_every_box_tested_against_every_point():
 
 
 def test_the_table_2_jobs_and_a_friction_study_share_one_keel(tmp_path):
-    """jobs/gong_2017_keel_*.toml are seed 002's Table 2 (half models at w = 17.3-80 m with l_h = 30 m,
-    the full model at l_f = 60 m); a study over mu_i (Table 2: 0.3, 0.6) keeps each variant on the job's
+    """jobs/gong_2017_keel_*.toml are seed 002's Table 2, its ten rows (half models at w = 17.3-80 m with
+    l_h = 30 m; at w = 17.3 m the half models at l_h = 40 and 50 m and the full models at l_f = 60, 80 and
+    100 m, the full ones' rubble from y = -l_f / 2); a study over mu_i (Table 2: 0.3, 0.6) keeps each variant on the job's
     one keel file (the friction is not a generation key: io/keel_file.RUN_KEYS)."""
     import pathlib
 
@@ -133,10 +134,17 @@ def test_the_table_2_jobs_and_a_friction_study_share_one_keel(tmp_path):
     found = {}
     for path in sorted(jobs.glob("gong_2017_keel_*.toml")):
         job = load_job(path)
-        found[path.stem] = (job.keel.width, job.keel.length, job.bodies[0].hull.half)
+        half = job.bodies[0].hull.half
+        assert job.keel.y0 == (0.0 if half else -job.keel.length / 2), path
+        found[path.stem] = (job.keel.width, job.keel.length, half)
     assert found == {"gong_2017_keel_w17_3": (17.3, 30.0, True), "gong_2017_keel_w30": (30.0, 30.0, True),
                      "gong_2017_keel_w40": (40.0, 30.0, True), "gong_2017_keel_w60": (60.0, 30.0, True),
-                     "gong_2017_keel_w80": (80.0, 30.0, True), "gong_2017_keel_w17_3_full": (17.3, 60.0, False)}
+                     "gong_2017_keel_w80": (80.0, 30.0, True), "gong_2017_keel_w17_3_full": (17.3, 60.0, False),
+                     "gong_2017_keel_w17_3_l40": (17.3, 40.0, True), "gong_2017_keel_w17_3_l50": (17.3, 50.0, True),
+                     "gong_2017_keel_w17_3_full_l80": (17.3, 80.0, False),
+                     "gong_2017_keel_w17_3_full_l100": (17.3, 100.0, False)}
+    # one file each: a length series keel is never read as another's
+    assert len({keel_path(load_job(p), jobs).resolve() for p in jobs.glob("gong_2017_keel_*.toml")}) == len(found)
     assert "contact" in RUN_KEYS
     base = jobs / "gong_2017_keel_w30.toml"
     variants = make_variants(base, ["keel.contact.friction=0.3,0.6"], out_dir=tmp_path)
