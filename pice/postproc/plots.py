@@ -227,8 +227,8 @@ def mooring_load(run, out: pathlib.Path, skip: float = 0.0, baseline=None, **_):
 def keel_resistance(run, out: pathlib.Path, **_):
     """keel_resistance.png: a ship run through a [keel]: R = -f_x against the penetration, its running
     average over 6 m and the peak R^p (seed 002, Fig. 5; postproc/resistance.py). None otherwise."""
-    from .resistance import (WINDOW, keel_record, peak_resistance, piece_resistance_record, running_average,
-                             water_drag_record)
+    from .resistance import (WINDOW, keel_record, malmberg_for_job, peak_resistance, piece_resistance_record,
+                             running_average, water_drag_record)
 
     record = keel_record(run)
     if record is None:
@@ -237,14 +237,14 @@ def keel_resistance(run, out: pathlib.Path, **_):
     fig, axes = _figure(1)
     ax = axes[0]
     ax.plot(delta, r / 1e3, lw=0.6, alpha=0.6, label="R = -f_x")
-    ax.plot(delta, running_average(delta, r) / 1e3, lw=1.6, label=f"running average over {WINDOW:g} m")
+    ax.plot(delta, running_average(delta, r) / 1e3, lw=1.6, label=f"{WINDOW:g} m running average")
     peak, where = peak_resistance(delta, r)
     if np.isfinite(peak):
         ax.plot([where], [peak / 1e3], "o", label=f"R^p = {peak / 1e3:,.0f} kN at {where:.1f} m")
     drag = water_drag_record(run)
     if drag is not None:  # the part of R that moves the rubble through the water (postproc/resistance.py)
         ax.plot(drag[0], running_average(*drag) / 1e3, "--", lw=1.2,
-                label=f"the water's drag on the rubble along -x, running average over {WINDOW:g} m")
+                label=f"the water's drag on the rubble along -x, {WINDOW:g} m average")
     pieces = piece_resistance_record(run)
     if pieces is not None:  # where on the hull R acts: a ship's bow and midbody (Malmberg's two terms)
         d, rp, names = pieces
@@ -252,11 +252,16 @@ def keel_resistance(run, out: pathlib.Path, **_):
             ok = np.isfinite(rp[:, k])
             if ok.any() and np.any(rp[ok, k] != 0.0):
                 ax.plot(d[ok], running_average(d[ok], rp[ok, k]) / 1e3, ":", lw=1.2,
-                        label=f"on the {name}, running average over {WINDOW:g} m")
+                        label=f"on the {name}, {WINDOW:g} m average")
+    malmberg = malmberg_for_job(run.job)
+    if malmberg is not None:  # the analytic reference (seed 002, Eqs. 1-2), for a keel wider than the bow
+        half = " / 2 (half hull)" if run.job.bodies[0].hull.half else ""
+        ax.axhline(malmberg.total / 1e3, color="0.4", ls="-.", lw=1.0,
+                   label=f"Malmberg's R_A{half} = {malmberg.total / 1e3:,.0f} kN (phi 40 deg, p 0.3)")
     ax.set_xlabel("penetration delta [m]")
     ax.set_ylabel("keel resistance [kN]")
     ax.grid(alpha=0.3)
-    ax.legend(loc="upper left", fontsize=8)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, fontsize=8)  # below: clear of the peak
     fig.suptitle(f"Keel resistance: {_title(run)}", fontsize=11)
     fig.tight_layout()
     return _save(fig, out / "keel_resistance.png")

@@ -73,6 +73,28 @@ def piece_resistance_record(run, body: int = 0):
     return x[:, body, 0] - x[0, body, 0], r, names
 
 
+def malmberg_for_job(job, body: int = 0):
+    """Malmberg's R_A (physics/ridge.py, seed 002's Eqs. 1-2) for a job's ship through its [keel]:
+    bodies[body]'s hull dimensions and ice friction, the keel's depth, the blocks' and the water's
+    densities, and the rubble's phi = 40 deg and p = 0.3 with which seed 002 quotes about 1000 kN. A
+    half hull (``hull.half``) meets half of both terms. None when the job has no [keel] or the body's
+    hull is not a "ship"."""
+    from ..physics.ridge import KeelResistance, malmberg_resistance
+
+    if job is None or job.keel is None or len(job.bodies) <= body:
+        return None
+    b = job.bodies[body]
+    hull = b.hull
+    if hull is None or hull.type != "ship":
+        return None
+    r = malmberg_resistance(draft=hull.draft, breadth=hull.breadth, midbody=hull.midbody,
+                            waterline_angle_deg=hull.waterline_angle, stem_angle_deg=hull.stem_angle,
+                            keel_depth=job.keel.depth, ship_friction=b.friction, water_density=job.water.density,
+                            ice_density=job.keel.blocks.density)
+    share = 0.5 if hull.half else 1.0
+    return KeelResistance(bow=share * r.bow, midbody=share * r.midbody)
+
+
 def running_average(delta: np.ndarray, r: np.ndarray, window: float = WINDOW) -> np.ndarray:
     """The mean of R over the penetration (delta - window, delta] at each row (delta increasing);
     NaN until a whole window has been penetrated."""

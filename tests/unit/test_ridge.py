@@ -35,3 +35,23 @@ def test_shallow_keel_drops_the_negative_term():
     """h/T - 1/2 < 0 is set to zero (seed 002, after Eq. 1)."""
     r = malmberg_resistance(**{**SHIP, "keel_depth": 3.0})
     assert r.midbody == pytest.approx(0.7 * 90.0 * 9.81 * 0.1 * 9.5 * 67.5 * 0.27 * 3.0, rel=1e-12)
+
+
+def test_the_keel_plot_takes_malmberg_from_the_job_the_run_keeps():
+    """postproc.resistance.malmberg_for_job, the reference line of keel_resistance.png: for the Table 2
+    jobs (seed 002's Table 1 ship, h 5 m, mu_s 0.1, rho_w 1010, rho_i 920) it is the seed's R_A, half
+    of it on a half hull (the two terms each halved: the symmetry plane cuts the bow and the midbody in
+    two); None for a job without a ship."""
+    import pathlib
+
+    from pice.job import load_job
+    from pice.postproc.resistance import malmberg_for_job
+
+    jobs = pathlib.Path(__file__).resolve().parents[2] / "jobs"
+    full = malmberg_resistance(**SHIP)
+    half = malmberg_for_job(load_job(jobs / "gong_2017_keel_w80.toml"))
+    assert half.bow == pytest.approx(0.5 * full.bow, rel=1e-12)
+    assert half.midbody == pytest.approx(0.5 * full.midbody, rel=1e-12)
+    whole = malmberg_for_job(load_job(jobs / "gong_2017_keel_w17_3_full.toml"))
+    assert whole.total == pytest.approx(full.total, rel=1e-12)
+    assert malmberg_for_job(load_job(jobs / "kulluk_2017_tight70.toml")) is None  # floes on a cone, no keel
