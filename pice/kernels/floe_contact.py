@@ -319,6 +319,78 @@ def structure_contacts(lo, hi, stride, x, v, omega, mass, bound, pts, counts, s_
 
 
 @njit(**JIT)
+def hull_contacts(lo, hi, stride, x, v, omega, mass, bound, pts, counts, p_pts, p_counts, p_bound, s_centre, s_v,
+                  s_w, kn, cn, zr, kt, mu, pressure, dt, step, slot_gid, cgid, stamp, hist, records, nrec):
+    """The contact of every floe in range(lo, hi, stride) with a hull of P convex pieces (p_pts, p_counts:
+    (P, F, V, 3), (P, F) their faces in space, padded with faces of count 0; p_bound (P,): each piece's
+    bounding radius about s_centre [m], the hull's reference point, where its velocity s_v [m/s] and
+    angular velocity s_w [rad/s] are given): ONE contact per floe and hull, as the hull's union meets
+    the floe. The pieces' overlaps with the floe add up: V = sum V_p, the centroid the V-weighted mean,
+    and S_A = sum S_A,p, since the floe's surface inside the union is the sum of its parts inside each
+    piece (so a seam between two pieces, a face each shares inside the hull, adds nothing); for a convex
+    union this is the union's own contact (kernels/polyhedron_contact.py) to round-off. The law then
+    acts once (a floe straddling a seam is not pushed by each piece: the law's k_n delta does not scale
+    with the area), with the history in the slot ``slot_gid``. The force is shared among the pieces in
+    proportion to their V_p, a record per piece in ``records[p]`` (P, m, STRUCTURE_RECORD), counted in
+    ``nrec[p]`` (P,), so that each piece's load is its share (a ship's bow and midbody: Malmberg's two
+    terms). Returns the contacts in plastic flow."""
+    npieces = p_pts.shape[0]
+    nplastic = 0
+    for p in range(npieces):
+        nrec[p] = 0
+    vols = np.zeros(npieces)
+    one = np.empty((1, records.shape[2]))
+    boxes = np.empty((npieces, 6))
+    planes = np.empty((npieces, p_counts.shape[1], 4))
+    for p in range(npieces):
+        boxes[p] = floe_boxes(1, p_pts[p:p + 1], p_counts[p:p + 1])[0]
+        planes[p] = face_planes(p_pts[p:p + 1], p_counts[p:p + 1])[0]
+    for i in range(lo, hi, stride):
+        d0, d1, d2 = x[i, 0] - s_centre[0], x[i, 1] - s_centre[1], x[i, 2] - s_centre[2]
+        far = True
+        for p in range(npieces):
+            reach = bound[i] + p_bound[p]
+            if d0 * d0 + d1 * d1 + d2 * d2 < reach * reach:
+                far = False
+        if far:
+            continue
+        vol = c0 = c1 = c2 = s0 = s1 = s2 = 0.0
+        fplanes = np.empty((0, 4))  # the floe's face planes, computed once a piece's tests pass
+        for p in range(npieces):
+            vols[p] = 0.0
+            reach = bound[i] + p_bound[p]
+            if (d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach or not _polyhedron_meets_box(boxes[p], pts[i], counts[i])
+                    or separated_by_planes(planes[p], p_counts[p], pts[i], counts[i])):
+                continue
+            if fplanes.shape[0] == 0:
+                fplanes = face_planes(pts[i:i + 1], counts[i:i + 1])[0]
+            vp, c, nrm, area, _ = contact_geometry_planes(pts[i], counts[i], fplanes, p_pts[p], p_counts[p], planes[p])
+            if vp <= 0.0:
+                continue
+            vols[p] = vp
+            vol += vp
+            c0, c1, c2 = c0 + vp * c[0], c1 + vp * c[1], c2 + vp * c[2]
+            s0, s1, s2 = s0 + area * nrm[0], s1 + area * nrm[1], s2 + area * nrm[2]
+        area = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
+        if vol <= 0.0 or area <= 0.0:
+            continue
+        c = np.array([c0 / vol, c1 / vol, c2 / vol])
+        # the structure's normal points from the floe towards it; the law's normal from it to the floe
+        _, nplastic = _on_structure(i, c, -s0 / area, -s1 / area, -s2 / area, area, vol / area, x, v, omega, mass,
+                                    s_centre, s_v, s_w, kn, cn, zr, kt, mu, pressure, dt, step, slot_gid, cgid,
+                                    stamp, hist, one, 0, nplastic)
+        for p in range(npieces):
+            if vols[p] > 0.0:
+                if nrec[p] < records.shape[1]:
+                    share = vols[p] / vol
+                    records[p, nrec[p], 0] = i
+                    for e in range(1, records.shape[2]):
+                        records[p, nrec[p], e] = share * one[0, e]
+                nrec[p] += 1
+    return nplastic
+
+
+@njit(**JIT)
 def _on_structure(i, c, n0, n1, n2, area, depth, x, v, omega, mass, s_centre, s_v, s_w, kn, cn, zr, kt, mu, pressure,
                   dt, step, slot_gid, cgid, stamp, hist, records, nrec, nplastic):
     """The law on floe i against a structure at contact point c [m], normal (n0, n1, n2) from the

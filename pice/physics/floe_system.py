@@ -17,8 +17,10 @@ Why not a spatial decomposition, as the level ice has: a floe field is small (se
 costs nothing, and the work, which is in the contacts and the water's clipping, still divides over
 the ranks. A field of 10^5 floes or more would want the level ice's decomposition.
 
-Structures: each body's hull (its convex pieces: a revolved hull's frusta, a box) moves with the
-body's pose, which rank 0 broadcasts; the floes' loads on it are summed in record order and handed
+Structures: each body's hull (its convex pieces: a revolved hull's frusta, a box, a ship's bow,
+midbody and stern) moves with the body's pose, which rank 0 broadcasts; a floe meets a hull of
+several pieces as one contact (Floes.join_pieces: the pieces' overlaps summed), its force shared
+among the pieces by their overlaps; the floes' loads on it are summed in record order and handed
 to the platform with the level ice's. ``floes.sides = "confined"`` adds two fixed walls along the
 drift (half-spaces beyond y0 and y1 of the field's area).
 """
@@ -88,7 +90,7 @@ class FloeSystem:
         f.torque[:] = 0.0
         f.water_loads(lo, hi, pts, counts, omega, dt, stride)
         water = f.force[own].ravel()  # the water's loads and gravity alone (a copy: fancy indexing)
-        structure = [f.structure_records(k, lo, hi, pts, counts, omega, dt, stride) for k in range(len(f.structures))]
+        structure = f.all_structure_records(lo, hi, pts, counts, omega, dt, stride)
         pairs, npair, nplastic, _ = f.pair_records(lo, hi, pts, counts, omega, dt, stride)
         nplastic += sum(r[2] for r in structure)
         head = [len(own), npair, nplastic] + [r[1] for r in structure]
@@ -308,6 +310,7 @@ def add_body_structures(floes: Floes, job, hulls, poses) -> list[list[int]]:
         for v, t in pieces:
             floes.add_structure(v, t, centre=np.zeros(3), friction=body.friction)  # ice-hull friction
         body_pieces.append(list(range(first, first + len(pieces))))
+        floes.join_pieces(body_pieces[-1])  # one contact per floe and hull, not one per piece
         for s in body_pieces[-1]:
             floes.move_structure(s, x=poses[k, :3], q=poses[k, 3:7], v=poses[k, 7:10], w=poses[k, 10:13])
     return body_pieces

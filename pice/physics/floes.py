@@ -19,8 +19,8 @@ import numpy as np
 from ..errors import InstabilityError
 from ..kernels.box_contact import box_half_extents
 from ..kernels.floe_contact import (PAIR_RECORD, STRUCTURE_RECORD, apply_pair_records, apply_structure_records,
-                                    boxes_within, build_floe_pairs, floe_boxes, floe_contacts, plane_contacts,
-                                    structure_contacts)
+                                    boxes_within, build_floe_pairs, floe_boxes, floe_contacts, hull_contacts,
+                                    plane_contacts, structure_contacts)
 from ..kernels.floe_hydro import SEA_COLUMNS, floe_sea, floe_water
 from ..kernels.floe_motion import floe_omegas, floe_rotations, turn_all, world_polyhedra
 from ..kernels.polyhedra import prism
@@ -163,6 +163,7 @@ class Floes:
         self.pair_lists = 0  # lists built
         self.stats = (0, 0, 0.0)
         self.structures = []  # fixed convex structures: (pts, counts, centre, bound)
+        self.hull_pieces = []  # runs of structure indices that are one hull's pieces (join_pieces)
         self.structure_load = np.zeros((0, 6))
 
     def add_structure(self, vertices: np.ndarray, triangles: np.ndarray, centre=None, friction=None) -> None:
@@ -213,8 +214,7 @@ class Floes:
         pts, counts = self.world()
         omega = self.omega
         self.water_loads(0, n, pts, counts, omega, dt)
-        for k, st in enumerate(self.structures):
-            rec, nrec, _ = self.structure_records(k, 0, n, pts, counts, omega, dt)
+        for k, (rec, nrec, _) in enumerate(self.all_structure_records(0, n, pts, counts, omega, dt)):
             self.structure_load[k] = 0.0
             apply_structure_records(rec, nrec, self.force, self.torque, self.structure_load[k])
         rec, nrec, nplastic, worst = self.pair_records(0, n, pts, counts, omega, dt)
@@ -276,6 +276,55 @@ class Floes:
                                               self.stamp, self.hist, rec, rot, self.box_half)
         _refuse_overflow(nrec, rec, "floe-floe")
         return rec, nrec, nplastic, worst
+
+    def join_pieces(self, indices) -> None:
+        """Structures ``indices`` (added in a row, moved together) are the convex pieces of one hull:
+        each floe meets them as one contact (kernels/floe_contact.hull_contacts), its force shared among
+        the pieces by their overlaps."""
+        indices = [int(k) for k in indices]
+        if len(indices) > 1:
+            if indices != list(range(indices[0], indices[0] + len(indices))):
+                raise ValueError(f"join_pieces: structures {indices} are not consecutive")
+            self.hull_pieces.append(indices)
+
+    def all_structure_records(self, lo, hi, pts, counts, omega, dt, stride=1) -> list:
+        """``structure_records`` of every structure, in order; a hull of pieces (``join_pieces``) in one
+        call of ``hull_records``."""
+        out, joined = [], {h[0]: h for h in self.hull_pieces}
+        k = 0
+        while k < len(self.structures):
+            if k in joined:
+                out += self.hull_records(joined[k], lo, hi, pts, counts, omega, dt, stride)
+                k += len(joined[k])
+            else:
+                out.append(self.structure_records(k, lo, hi, pts, counts, omega, dt, stride))
+                k += 1
+        return out
+
+    def hull_records(self, ks, lo, hi, pts, counts, omega, dt, stride=1) -> list:
+        """[(records, count, contacts in plastic flow)] of floes range(lo, hi, stride) against each piece
+        ks of one hull, one contact per floe and hull (kernels/floe_contact.hull_contacts); the plastic
+        contacts counted on the first piece."""
+        law, first = self.law, self.structures[ks[0]]
+        mu = law.mu if first["mu"] is None else first["mu"]
+        most = max(len(self.structures[k]["local"]) for k in ks)
+        p_pts = np.zeros((len(ks), most, 3, 3))
+        p_counts = np.zeros((len(ks), most), np.int64)
+        for j, k in enumerate(ks):
+            st = self.structures[k]
+            nf = len(st["local"])
+            p_pts[j, :nf] = world_polyhedra(st["local"][None], st["counts"][None], st["x"][None], st["q"][None])[0]
+            p_counts[j, :nf] = st["counts"]
+        p_bound = np.array([self.structures[k]["bound"] for k in ks])
+        rec = np.empty((len(ks), max(len(range(lo, hi, stride)), 1), STRUCTURE_RECORD))
+        nrec = np.zeros(len(ks), np.int64)
+        nplastic = hull_contacts(lo, hi, stride, self.x, self.v, omega, self.mass, self.bound, pts, counts, p_pts,
+                                 p_counts, p_bound, first["x"], first["v"], first["w"], law.kn, law.cn, law.zeta,
+                                 law.kt, mu, law.pressure, dt, self.step_count, -1 - ks[0], self.cgid, self.stamp,
+                                 self.hist, rec, nrec)
+        for j in range(len(ks)):
+            _refuse_overflow(int(nrec[j]), rec[j], "floe-structure")
+        return [(rec[j], int(nrec[j]), nplastic if j == 0 else 0) for j in range(len(ks))]
 
     def structure_records(self, k, lo, hi, pts, counts, omega, dt, stride=1):
         """(records, count, contacts in plastic flow) of floes range(lo, hi, stride) against structure k."""

@@ -386,3 +386,45 @@ def test_the_contact_search_finds_every_overlapping_pair(ranks):
     assert found.keys() == expected.keys()
     for key, fn in expected.items():  # zero velocity: F_n = k_n delta, and no tangential force
         assert found[key] == pytest.approx(fn, rel=1e-9)
+
+
+def _box_mesh(lo, hi):
+    """A closed, outward triangle mesh of the box [lo, hi] [m]."""
+    from scipy.spatial import ConvexHull
+
+    v = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])], float)
+    tris = ConvexHull(v).simplices.copy()
+    c = v.mean(axis=0)
+    for m, (a, b, d) in enumerate(v[tris]):
+        if np.dot(np.cross(b - a, d - a), a - c) < 0.0:
+            tris[m] = tris[m][[0, 2, 1]]
+    return v, tris
+
+
+def test_a_floe_across_the_seam_of_a_hull_of_pieces_meets_the_hull_once():
+    """A hull of two convex pieces sharing a face (a 40 x 20 x 10 m box cut at x = 12 m) against the
+    same box whole: a floe pressed into its top across the seam, off-centre (of its 18 m over the box,
+    10 m over the first piece and 8 m over the second), meets the pieces as it meets the box (Floes.join_pieces, kernels/floe_contact.hull_contacts:
+    the pieces' overlaps summed are the union's; a convex union is the reference, to 1e-9), and each
+    piece takes the share of its overlap. Met one piece at a time, as before, the floe took a contact
+    from each: the law's k_n delta does not grow with the area, so it was pushed about twice as hard
+    (seed 002's ship: 6-12 % more R, docs/ridge_keel.md "The hull's seams")."""
+    law = FloeLaw()
+    floe = [_square(12.0 + 0.5 * SIDE - 10.0, 0.0)]  # x from 2 to 32 m: 10 m over the first piece
+    pieces = [_box_mesh((-20.0, -10.0, -10.0), (12.0, 10.0, 0.0)), _box_mesh((12.0, -10.0, -10.0), (20.0, 10.0, 0.0))]
+    whole = _box_mesh((-20.0, -10.0, -10.0), (20.0, 10.0, 0.0))
+    results = {}
+    for name, meshes, join in (("joined", pieces, True), ("apart", pieces, False), ("whole", [whole], False)):
+        floes = Floes(floe, [H], density=RHO, base=[-0.05], law=law)  # its base 5 cm into the box's top
+        for v, t in meshes:
+            floes.add_structure(v, t, centre=np.zeros(3))
+        if join:
+            floes.join_pieces(range(len(meshes)))
+        floes.compute_forces(1e-3)
+        results[name] = (floes.force[0].copy(), floes.structure_load[:, :3].copy())
+    force, loads = results["joined"]
+    np.testing.assert_allclose(force, results["whole"][0], rtol=1e-9, atol=1e-9 * np.abs(force).max())
+    np.testing.assert_allclose(loads.sum(axis=0), -force, rtol=1e-12, atol=1e-9 * np.abs(force).max())
+    # the floe spans x = 2-32 m, the box's top -20-20 m: 10 m of the overlap's 18 m on the first piece
+    np.testing.assert_allclose(loads[:, 2] / loads[:, 2].sum(), [10.0 / 18.0, 8.0 / 18.0], rtol=1e-9)
+    assert results["apart"][0][2] > 1.5 * force[2]  # a contact from each piece: pushed up about twice
