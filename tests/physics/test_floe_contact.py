@@ -427,4 +427,4 @@ def test_a_floe_across_the_seam_of_a_hull_of_pieces_meets_the_hull_once():
     np.testing.assert_allclose(loads.sum(axis=0), -force, rtol=1e-12, atol=1e-9 * np.abs(force).max())
     # the floe spans x = 2-32 m, the box's top -20-20 m: 10 m of the overlap's 18 m on the first piece
     np.testing.assert_allclose(loads[:, 2] / loads[:, 2].sum(), [10.0 / 18.0, 8.0 / 18.0], rtol=1e-9)
-    assert results["apart"][0][2] > 1.5 * force[2]  # a contact from each piece: pushed up about twice
+    assert results["apart"][0][2] > 1.9 * force[2]  # a contact from each piece, each k_n delta: twice (2.0)
