@@ -33,7 +33,8 @@ import math
 import numpy as np
 
 from ..errors import JobError
-from ..kernels.floe_contact import PAIR_RECORD, STRUCTURE_RECORD, apply_pair_records, apply_structure_records
+from ..kernels.floe_contact import PAIR_RECORD, apply_pair_records
+from ..kernels.structure_contact import STRUCTURE_RECORD, apply_structure_records
 from ..kernels.floe_hydro import SEA_COLUMNS
 from ..kernels.floe_motion import turn_all
 from ..kernels.polyhedron_contact import contact_geometry

@@ -18,9 +18,9 @@ import numpy as np
 
 from ..errors import InstabilityError
 from ..kernels.box_contact import box_half_extents
-from ..kernels.floe_contact import (PAIR_RECORD, STRUCTURE_RECORD, apply_pair_records, apply_structure_records,
-                                    boxes_within, build_floe_pairs, floe_boxes, floe_contacts, hull_contacts,
-                                    plane_contacts, structure_contacts)
+from ..kernels.floe_contact import PAIR_RECORD, apply_pair_records, boxes_within, build_floe_pairs, floe_boxes, floe_contacts
+from ..kernels.structure_contact import (STRUCTURE_RECORD, apply_structure_records, hull_contacts, plane_contacts,
+                                        structure_contacts)
 from ..kernels.floe_hydro import SEA_COLUMNS, floe_sea, floe_water
 from ..kernels.floe_motion import floe_omegas, floe_rotations, turn_all, world_polyhedra
 from ..kernels.polyhedra import prism
@@ -279,7 +279,7 @@ class Floes:
 
     def join_pieces(self, indices) -> None:
         """Structures ``indices`` (added in a row, moved together) are the convex pieces of one hull:
-        each floe meets them as one contact (kernels/floe_contact.hull_contacts), its force shared among
+        each floe meets them as one contact (kernels/structure_contact.hull_contacts), its force shared among
         the pieces by their overlaps."""
         indices = [int(k) for k in indices]
         if len(indices) > 1:
@@ -303,7 +303,7 @@ class Floes:
 
     def hull_records(self, ks, lo, hi, pts, counts, omega, dt, stride=1) -> list:
         """[(records, count, contacts in plastic flow)] of floes range(lo, hi, stride) against each piece
-        ks of one hull, one contact per floe and hull (kernels/floe_contact.hull_contacts); the plastic
+        ks of one hull, one contact per floe and hull (kernels/structure_contact.hull_contacts); the plastic
         contacts counted on the first piece."""
         law, first = self.law, self.structures[ks[0]]
         mu = law.mu if first["mu"] is None else first["mu"]

@@ -404,7 +404,7 @@ def _box_mesh(lo, hi):
 def test_a_floe_across_the_seam_of_a_hull_of_pieces_meets_the_hull_once():
     """A hull of two convex pieces sharing a face (a 40 x 20 x 10 m box cut at x = 12 m) against the
     same box whole: a floe pressed into its top across the seam, off-centre (of its 18 m over the box,
-    10 m over the first piece and 8 m over the second), meets the pieces as it meets the box (Floes.join_pieces, kernels/floe_contact.hull_contacts:
+    10 m over the first piece and 8 m over the second), meets the pieces as it meets the box (Floes.join_pieces, kernels/structure_contact.hull_contacts:
     the pieces' overlaps summed are the union's; a convex union is the reference, to 1e-9), and each
     piece takes the share of its overlap. Met one piece at a time, as before, the floe took a contact
     from each: the law's k_n delta does not grow with the area, so it was pushed about twice as hard
