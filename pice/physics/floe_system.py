@@ -55,7 +55,7 @@ class FloeSystem:
         self.dealt = np.concatenate([np.arange(r, n, comm.size) for r in range(comm.size)]).astype(np.int64)
         self.body_loads = np.zeros((len(body_pieces), 6))  # force [N], moment about the body's CG [N m]
         self.contacts = 0            # floe-floe contacts in the last step
-        self.structure_contacts = 0  # floe-structure and floe-wall contacts
+        self.structure_contacts = 0  # floe-structure and floe-wall contacts (a hull of pieces: one a floe)
         self.plastic = 0             # contacts in plastic flow (crushing)
         self.water = np.zeros((n, 3))  # the water's force and gravity on each floe at the last step [N]
 
@@ -125,13 +125,19 @@ class FloeSystem:
             parsed.append((recs, b[at:at + PAIR_RECORD * npair].reshape(-1, PAIR_RECORD), nplastic))
             row += own
         f.structure_load[:] = 0.0
+        hull_of = {k: h[0] for h in f.hull_pieces for k in h}  # a piece -> its hull's first piece
+        touching, self.structure_contacts = {}, 0
         for k in range(ns):
             recs = _by_floe([p[0][k] for p in parsed], lambda r: r[:, 0])
             apply_structure_records(recs, len(recs), f.force, f.torque, f.structure_load[k])
+            if k in hull_of:  # a floe across a seam has a record on each piece it overlaps: one contact
+                touching.setdefault(hull_of[k], set()).update(recs[:, 0].astype(np.int64).tolist())
+            else:
+                self.structure_contacts += len(recs)
+        self.structure_contacts += sum(len(floes) for floes in touching.values())
         pairs = _by_floe([p[1] for p in parsed], lambda r: np.minimum(r[:, 0], r[:, 1]))
         apply_pair_records(pairs, len(pairs), f.force, f.torque)
         self.contacts = len(pairs)
-        self.structure_contacts = sum(len(r) for p in parsed for r in p[0])
         self.plastic = sum(p[2] for p in parsed)
         self.body_loads[:] = 0.0
         for k, pieces in enumerate(self.body_pieces):

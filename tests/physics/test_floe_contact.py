@@ -428,3 +428,15 @@ def test_a_floe_across_the_seam_of_a_hull_of_pieces_meets_the_hull_once():
     # the floe spans x = 2-32 m, the box's top -20-20 m: 10 m of the overlap's 18 m on the first piece
     np.testing.assert_allclose(loads[:, 2] / loads[:, 2].sum(), [10.0 / 18.0, 8.0 / 18.0], rtol=1e-9)
     assert results["apart"][0][2] > 1.9 * force[2]  # a contact from each piece, each k_n delta: twice (2.0)
+    # the series' count (FloeSystem.structure_contacts): one contact, though each piece keeps a record
+    from pice.parallel.comm import SerialComm
+    from pice.physics.floe_system import FloeSystem
+
+    floes = Floes(floe, [H], density=RHO, base=[-0.05], law=law)
+    for v, t in pieces:
+        floes.add_structure(v, t, centre=np.zeros(3))
+    floes.join_pieces([0, 1])
+    system = FloeSystem(floes, SerialComm(), [])
+    system.compute_forces(np.zeros((0, 13)), 0.0, 1e-3)
+    np.testing.assert_array_equal(system.f.force[0], force)
+    assert system.structure_contacts == 1
