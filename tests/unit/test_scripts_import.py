@@ -33,3 +33,22 @@ def test_the_script_imports(script, monkeypatch):
             missing += [f"{node.module}.{a.name}" for a in node.names if not hasattr(module, a.name)
                         and importlib.util.find_spec(f"{node.module}.{a.name}") is None]
     assert not missing, f"{script.name} imports what pice no longer has (inside functions too): {missing}"
+
+
+@pytest.mark.parametrize("command", ["run", "study", "keel"])
+def test_the_slurm_script_runs_the_pice_command_it_is_given(command):
+    """mpi/slurm.sbatch outside SLURM (PICE_USE_MPIEXEC, one rank): ``study JOB ...`` runs `pice study`
+    (the keel matrix's batch jobs, docs/ridge_keel.md), a bare JOB `pice run`; here each one's --help."""
+    import os
+    import subprocess
+
+    env = {**os.environ, "PICE_USE_MPIEXEC": "1", "SLURM_NTASKS": "1",
+           "PICE_VENV": str(pathlib.Path(sys.executable).parent.parent)}
+    args = ["--help"] if command == "run" else [command, "--help"]
+    out = subprocess.run(["bash", str(ROOT / "mpi/slurm.sbatch"), *args], env=env, cwd=ROOT,
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert f"usage: pice {command}" in out.stdout
+    bare = subprocess.run(["bash", str(ROOT / "mpi/slurm.sbatch")], env=env, cwd=ROOT, capture_output=True,
+                          text=True, timeout=60)
+    assert bare.returncode != 0 and "usage: sbatch mpi/slurm.sbatch [run|study|keel]" in bare.stderr
