@@ -52,3 +52,6 @@ def test_the_slurm_script_runs_the_pice_command_it_is_given(command):
     bare = subprocess.run(["bash", str(ROOT / "mpi/slurm.sbatch")], env=env, cwd=ROOT, capture_output=True,
                           text=True, timeout=60)
     assert bare.returncode != 0 and "usage: sbatch mpi/slurm.sbatch [run|study|keel]" in bare.stderr
+    typo = subprocess.run(["bash", str(ROOT / "mpi/slurm.sbatch"), "stduy", "jobs/level_ice_demo.toml"], env=env,
+                          cwd=ROOT, capture_output=True, text=True, timeout=60)
+    assert typo.returncode == 2 and "'stduy' is neither a pice command" in typo.stderr
