@@ -98,6 +98,6 @@ def _check_keel_to_generate(job, source) -> int:
           "(the trim keeps those in the keel)")
     print(f"  settling step     {g['dt']:.4g} s ({1.0 / g['dt']:,.0f} steps per sim. s), up to keel.settle_time = "
           f"{g['settle_time']:g} s")
-    print(f"  cost              ~{g['hours']:.2g} h on 2 ranks here, from a measured generation (the narrow Gong "
+    print(f"  cost              ~{g['hours']:.2g} h on 2 ranks here, from a measured generation (the 80 m Gong "
           "keel's) in proportion to the blocks and the steps (docs/ridge_keel.md)")
     return 0

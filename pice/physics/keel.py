@@ -109,12 +109,12 @@ def keel_step(keel, floes: Floes) -> float:
     return min(0.5 * stable, accurate)
 
 
-# a measured generation on the project's 2-core machine, nothing else running: blocks released, its step
-# [s], wall time on 2 ranks [s]. The narrow keel kept in jobs/keels/, at step_fraction 0.1 (docs/ridge_keel.md,
-# "The narrow keel kept in the repository"). The 80 m keel's at 0.3, 4.6 times the blocks and 3 times the
-# step, estimated at 3.1 h from it, took about 2.8 h ("The 80 m keel on the jobs'
-# blocks")
-MEASURED_GENERATION = (10_750, 2.914e-4, 7346.0)
+# a measured generation on the project's 2-core machine: blocks released, its step [s], wall time on 2 ranks
+# [s]. The 80 m keel kept in jobs/keels/, at the jobs' step_fraction 0.3 (docs/ridge_keel.md, "The 80 m keel on
+# the jobs' blocks": 2 h 33 min to t = 50.5 s and 910 s more from its checkpoint, less the 240 s its trim's
+# porosity then took). The narrow kept keel's (10,750 blocks at 0.1, 2.914e-4 s, 7,346 s) gave 3.1 h for it,
+# about 11 % high (the cause not traced); the jobs' keels are all generated at 0.3, as this one was
+MEASURED_GENERATION = (49_707, 8.740e-4, 9850.0)
 
 
 def generation_facts(job) -> dict:
