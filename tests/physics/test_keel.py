@@ -189,23 +189,24 @@ def test_the_generation_cost_estimate_scales_the_measured_one_by_blocks_and_step
     """`pice check`'s rough cost of a generation is a measured one (MEASURED_GENERATION: the 80 m keel
     kept in jobs/keels/, 49,707 blocks at step_fraction 0.3, 9,850 s on 2 ranks) in proportion to the
     blocks released and the steps (1 / dt): the 80 m job gives back that measurement (to the 4 digits
-    its step is kept to), at step_fraction 0.1 three times it (dt is that fraction of the contact time,
-    under the stability cap at both), and the narrow job in proportion to its 10,750 blocks."""
+    its step is kept to), and the narrow job (10,750 blocks) that measurement in proportion to its
+    blocks at 0.3 and three times as much at 0.1 (dt is that fraction of the contact time, under the
+    stability cap at both). The 80 m job is evaluated once: its 49,707 blocks cost seconds."""
     from pice.physics.keel import MEASURED_GENERATION, generation_facts
 
     jobs = pathlib.Path(__file__).resolve().parents[2] / "jobs"
-    job = load_job(jobs / "gong_2017_keel_w80.toml")
+    wide = generation_facts(load_job(jobs / "gong_2017_keel_w80.toml"))
+    assert wide["released"] == MEASURED_GENERATION[0]
+    assert wide["hours"] == pytest.approx(MEASURED_GENERATION[2] / 3600.0, rel=1e-3)
+    job = load_job(jobs / "gong_2017_keel_w17_3.toml")
     hours = {}
     for fraction in (0.1, 0.3):
         facts = generation_facts(job.model_copy(update=dict(keel=job.keel.model_copy(
             update=dict(step_fraction=fraction)))))
-        assert facts["released"] == MEASURED_GENERATION[0]
+        assert facts["released"] == 10_750
         hours[fraction] = facts["hours"]
-    assert hours[0.3] == pytest.approx(MEASURED_GENERATION[2] / 3600.0, rel=1e-3)
+    assert hours[0.3] == pytest.approx(wide["hours"] * 10_750 / MEASURED_GENERATION[0], rel=1e-3)
     assert hours[0.1] == pytest.approx(3.0 * hours[0.3], rel=1e-12)
-    narrow = generation_facts(load_job(jobs / "gong_2017_keel_w17_3.toml"))
-    assert narrow["released"] == 10_750
-    assert narrow["hours"] == pytest.approx(hours[0.3] * 10_750 / MEASURED_GENERATION[0], rel=1e-3)
 
 
 def test_check_of_a_ship_run_before_its_keel_says_what_the_generation_settles(tmp_path, capsys):
